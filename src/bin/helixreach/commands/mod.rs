@@ -1,0 +1,14 @@
+//! One module per subcommand.
+
+pub mod boundary;
+pub mod demo;
+pub mod disturbances;
+pub mod fk;
+pub mod helix;
+pub mod ik;
+pub mod merge;
+pub mod plan;
+pub mod plot;
+pub mod reach;
+pub mod robot;
+pub mod simulate;

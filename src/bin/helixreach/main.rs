@@ -1,0 +1,76 @@
+//! `helixreach`: thin command-line glue over the library. Every subcommand lives in
+//! `commands/<name>.rs` as an `Args` struct (clap) and a `run(args) -> anyhow::Result<()>`.
+//! Machine-readable output goes to files or stdout; progress and errors go to stderr.
+//! Exit code 0 on success, 2 on error; a broken pipe on stdout counts as success.
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Plan robotic stability experiments on elastic rods with helical centerlines.
+#[derive(Debug, Parser)]
+#[command(name = "helixreach", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// End pose of the rod for a helix (κ, τ, ω), or for every row of a CSV.
+    Helix(commands::helix::Args),
+    /// Stability boundary s* along a set of directions.
+    Boundary(commands::boundary::Args),
+    /// DER dynamics: drive the rod along one ray at finite speed.
+    Simulate(commands::simulate::Args),
+    /// The seed paper's disturbance study (its Fig. 5).
+    Disturbances(commands::disturbances::Args),
+    /// Forward kinematics of a URDF robot.
+    Fk(commands::fk::Args),
+    /// All inverse-kinematics solutions for a tool pose.
+    Ik(commands::ik::Args),
+    /// Print a robot's chain, limits and collision bodies.
+    Robot(commands::robot::Args),
+    /// Plan the joint + motor trajectory of one ray on a rig.
+    Plan(commands::plan::Args),
+    /// Reachability sweep of a rig over a direction set.
+    Reach(commands::reach::Args),
+    /// Join shard outputs of `reach` (or `boundary`).
+    Merge(commands::merge::Args),
+    /// Regenerate a figure from saved CSVs.
+    Plot(commands::plot::Args),
+    /// The main job: boundary, reachability, dynamics and figures on the default rig.
+    Demo(commands::demo::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Helix(a) => commands::helix::run(a),
+        Command::Boundary(a) => commands::boundary::run(a),
+        Command::Simulate(a) => commands::simulate::run(a),
+        Command::Disturbances(a) => commands::disturbances::run(a),
+        Command::Fk(a) => commands::fk::run(a),
+        Command::Ik(a) => commands::ik::run(a),
+        Command::Robot(a) => commands::robot::run(a),
+        Command::Plan(a) => commands::plan::run(a),
+        Command::Reach(a) => commands::reach::run(a),
+        Command::Merge(a) => commands::merge::run(a),
+        Command::Plot(a) => commands::plot::run(a),
+        Command::Demo(a) => commands::demo::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            if e.chain().any(|c| {
+                c.downcast_ref::<std::io::Error>()
+                    .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+            }) {
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

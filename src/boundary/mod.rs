@@ -1,0 +1,1 @@
+//! The stability boundary along rays (DESIGN.md §3).

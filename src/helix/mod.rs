@@ -1,0 +1,1 @@
+//! Exact helix geometry (DESIGN.md §2). To be filled by the foundation issue.

@@ -1,0 +1,41 @@
+//! # helixreach
+//!
+//! Plan robotic stability experiments on elastic rods with helical centerlines.
+//!
+//! A rod of length L is clamped at one end; a robot holds the other end and a motor twists it.
+//! Every helical shape is a point (κ, τ, ω) (nondimensional: L = 1); the experiment drives the rod
+//! from straight along a ray (κ, τ, ω) = s·S̄ until it snaps. This crate answers, for a given robot
+//! and rig, which rays can be driven and with what joint + motor trajectory, and where the
+//! stability boundary lies.
+//!
+//! ## Map
+//! | module | holds |
+//! |---|---|
+//! | [`math`] | scalar/geometry aliases, named tolerances, stable ratios (sin x/x, …) |
+//! | [`error`] | the typed [`Error`] |
+//! | [`io`] | atomic file output |
+//! | [`helix`] | exact helix geometry: centerline, Frenet/Bishop/material frames, end pose, discrete helix, error metric |
+//! | [`directions`] | direction sets on the half-sphere κ ≥ 0 (Fibonacci lattice, CSV) |
+//! | [`rod`] | Discrete Elastic Rods: energies, gradients, Hessians, statics, dynamics |
+//! | [`boundary`] | the stability boundary along rays: continuum conjugate points and DER statics |
+//! | [`robot`] | URDF robots: compiled kinematics, IK, collision |
+//! | [`planning`] | rig files, pose paths, ladder graph, trajectories |
+//! | [`sweep`] | reachability over direction sets (parallel, resumable) |
+//! | [`plot`] | figures from saved records |
+//!
+//! Dependencies point one way: `planning` → {`helix`, `robot`, `boundary`}; `boundary` → {`rod`,
+//! `helix`}; `rod` → `helix`; `sweep` → `planning`; `plot` reads records only.
+
+pub mod boundary;
+pub mod directions;
+pub mod error;
+pub mod helix;
+pub mod io;
+pub mod math;
+pub mod planning;
+pub mod plot;
+pub mod robot;
+pub mod rod;
+pub mod sweep;
+
+pub use error::{Error, Result};

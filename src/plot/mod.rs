@@ -1,0 +1,1 @@
+//! Figures (plotters, PNG and SVG) from saved records (DESIGN.md §6).

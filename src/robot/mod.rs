@@ -1,0 +1,1 @@
+//! URDF robots: compiled kinematics, IK, collision (DESIGN.md §4).

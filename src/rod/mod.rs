@@ -1,0 +1,1 @@
+//! Discrete Elastic Rods (DESIGN.md §3): energies, statics, dynamics.

@@ -1,0 +1,1 @@
+//! Reachability sweeps over direction sets (DESIGN.md §6).
