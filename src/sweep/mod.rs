@@ -1,1 +1,6 @@
-//! Reachability sweeps over direction sets (DESIGN.md §6).
+//! Sweeps over direction sets (DESIGN.md §6).
+//!
+//! - [`driver`]: the generic resumable, checkpointed, deterministic parallel map over directions
+//!   (used by `boundary` and `reach`).
+
+pub mod driver;

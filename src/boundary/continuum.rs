@@ -1,0 +1,1 @@
+//! Continuum (Kirchhoff rod) conjugate-point stability test.

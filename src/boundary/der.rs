@@ -1,0 +1,1 @@
+//! DER-statics stability boundary along a ray.

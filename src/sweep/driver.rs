@@ -1,0 +1,1 @@
+//! Resumable, checkpointed, deterministic parallel map over a direction set.
