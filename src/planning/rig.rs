@@ -1,0 +1,962 @@
+//! Rig files: which robot holds the rod, where the clamp is, the rod, the motor, the roll mode,
+//! the helix azimuths, the scene and the planner settings (DESIGN.md §4).
+//!
+//! A rig is a TOML file (see `robots/sawyer-seed.toml`, which documents every field). It is parsed
+//! into private raw structs (`deny_unknown_fields`, so a typo is an error) and then validated into
+//! a [`Rig`]: every number is checked for its domain, and a failure is an
+//! [`Error::InvalidParameter`] whose field names the file and the TOML path, e.g.
+//! `robots/my.toml: rod.length = -1: must be finite and > 0`.
+//!
+//! # Frames
+//! - The **base frame** is the URDF root of the robot; every pose in the rig is written in it.
+//! - The **clamp frame** `[d1 d2 d3]` has its origin at the clamped end, `d3` the rod tangent there,
+//!   `d1` the direction the helix (at azimuth 0) first curls toward, `d2 = d3 × d1`.
+//! - The **tool frame** at the rod end has `z = −d3`, `x = d2`, `y = d1` of the rod's
+//!   parallel-transported end frame, i.e. `R_tool = D·P` with `P = [e2 e1 −e3]` (columns);
+//!   the robot's tip link carries it through the fixed transform `tool` (tip → tool).
+//!   For the straight rod the tool sits at `clamp + L·d3` with rotation `R_clamp·P`.
+//!
+//! # Loading
+//! [`Rig::load`] takes a path, or the name of an embedded rig ([`EMBEDDED_RIGS`]) so that
+//! `--rig sawyer-seed` works from any directory.
+//!
+//! ```
+//! let rig = helixreach::planning::rig::Rig::load("sawyer-seed").unwrap();
+//! assert_eq!(rig.robot.tip_link, "right_motor_tip");
+//! assert!((rig.rod.length - 0.51).abs() < 1e-15);
+//! // The straight rod's tool pose: clamp + (0, 0, 0.51), rotation diag(−1, 1, −1).
+//! let t = rig.straight_tool_pose();
+//! assert!((t.translation.vector - nalgebra::Vector3::new(0.85, -0.15, 0.366)).norm() < 1e-12);
+//! let r = t.rotation.to_rotation_matrix().into_inner();
+//! assert!((r - nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, 1.0, -1.0))).norm() < 1e-12);
+//! ```
+
+use crate::error::{Error, Result};
+use crate::math::{Iso3, Mat3, Real, Vec3, DEG};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// Rigs compiled into the binary, loadable by name: `(name, TOML text)`.
+pub const EMBEDDED_RIGS: &[(&str, &str)] = &[
+    ("sawyer-seed", include_str!("../../robots/sawyer-seed.toml")),
+    ("panda-bench", include_str!("../../robots/panda-bench.toml")),
+];
+
+/// Directory the embedded rigs resolve their URDF paths in (the crate's `robots/`).
+pub const EMBEDDED_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/robots");
+
+/// How the rod end's roll about its tangent is produced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RollMode {
+    /// The arm holds exactly the parallel-transported end frame; the motor adds ω/c
+    /// (the seed paper's scheme).
+    Fixed,
+    /// The arm's roll about the rod tangent is free; the motor makes up the difference.
+    Motor,
+}
+
+impl RollMode {
+    /// The name used in rig files and CSV output (`fixed`, `motor`).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            RollMode::Fixed => "fixed",
+            RollMode::Motor => "motor",
+        }
+    }
+}
+
+impl std::str::FromStr for RollMode {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "fixed" => Ok(RollMode::Fixed),
+            "motor" => Ok(RollMode::Motor),
+            _ => Err(Error::invalid("roll mode", s, "must be `fixed` or `motor`")),
+        }
+    }
+}
+
+impl std::fmt::Display for RollMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The robot of a rig.
+#[derive(Debug, Clone)]
+pub struct RobotSpec {
+    /// As written in the rig: a built-in robot name (`sawyer`, `panda`, …) or a URDF path
+    /// (relative paths are taken from the rig file's directory).
+    pub urdf: String,
+    /// The rig file's directory (where relative URDF paths resolve).
+    pub dir: PathBuf,
+    /// The link whose frame, times [`Rig::tool`], is the rod-end tool frame.
+    pub tip_link: String,
+}
+
+impl RobotSpec {
+    /// What to hand to the robot loader: the resolved path when a file of that (relative) name
+    /// exists beside the rig, else the name as written (a built-in robot, or a path the loader
+    /// will report as missing).
+    pub fn source(&self) -> String {
+        let p = Path::new(&self.urdf);
+        let resolved = if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.dir.join(p)
+        };
+        if resolved.is_file() {
+            resolved.display().to_string()
+        } else {
+            self.urdf.clone()
+        }
+    }
+}
+
+/// The rod's material and geometry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RodSpec {
+    /// Length L (m).
+    pub length: Real,
+    /// Cross-section radius r (m).
+    pub radius: Real,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: Real,
+    /// Poisson's ratio ν.
+    pub poisson: Real,
+    /// Density ρ (kg/m³).
+    pub density: Real,
+}
+
+impl RodSpec {
+    /// c = k_t / k_b = 1/(1+ν) for a circular cross-section.
+    pub fn twist_ratio(&self) -> Real {
+        1.0 / (1.0 + self.poisson)
+    }
+}
+
+/// The end-effector motor that turns the rod end about the tool z axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotorSpec {
+    /// Speed limit (rad/s).
+    pub max_velocity: Real,
+    /// Position range (rad); `(−∞, ∞)` for a motor that turns freely.
+    pub range: (Real, Real),
+}
+
+/// A primitive scene obstacle, posed in the base frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObstacleSpec {
+    /// Name (used in messages).
+    pub name: String,
+    /// Pose of the shape in the base frame (the shape is centred on its frame; cylinders and
+    /// capsules along its z axis).
+    pub pose: Iso3,
+    /// The shape.
+    pub shape: ObstacleShape,
+}
+
+/// Shapes of [`ObstacleSpec`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ObstacleShape {
+    /// Box with half extents (m).
+    Box {
+        /// Half extents along the frame's x, y, z.
+        half_extents: Vec3,
+    },
+    /// Cylinder along z.
+    Cylinder {
+        /// Radius (m).
+        radius: Real,
+        /// Half height (m).
+        half_height: Real,
+    },
+    /// Capsule along z (segment of length 2·half_height, then inflated by the radius).
+    Capsule {
+        /// Radius (m).
+        radius: Real,
+        /// Half length of the core segment (m).
+        half_height: Real,
+    },
+}
+
+/// Planner settings (the `[planner]` table).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannerSettings {
+    /// Fraction past the boundary s* to drive the rod (> 0).
+    pub margin: Real,
+    /// Largest rod-end translation between consecutive waypoints (m).
+    pub max_end_step: Real,
+    /// Largest rod-end rotation between consecutive waypoints (rad).
+    pub max_end_angle: Real,
+    /// 0 = adaptive waypoints; N > 0 = N waypoints uniform in s.
+    pub waypoints: usize,
+    /// Upper bound on the number of waypoints of one ray.
+    pub max_waypoints: usize,
+    /// Largest step of any joint on a ladder edge (rad).
+    pub max_joint_step: Real,
+    /// Diverse fresh IK solutions at the start of a ray.
+    pub redundancy_samples: usize,
+    /// Joint-space interpolation step for segment collision checks (rad).
+    pub segment_check_step: Real,
+    /// Number of capsules modelling the rod against the arm.
+    pub rod_capsules: usize,
+    /// Extra clearance added to the rod radius in the rod-vs-arm check (m).
+    pub rod_clearance: Real,
+    /// Rod length near the held end excluded from the rod-vs-arm check (m).
+    pub rod_end_exclusion: Real,
+    /// Quasi-static rod-end speed (m/s).
+    pub end_speed: Real,
+    /// Fraction of the URDF joint speed limits used by the time parametrization, in (0, 1].
+    pub velocity_scale: Real,
+    /// Per-joint weights of the edge cost (empty = all 1).
+    pub joint_weights: Vec<Real>,
+    /// Weight of the motor step in the edge cost.
+    pub motor_weight: Real,
+}
+
+impl Default for PlannerSettings {
+    /// The defaults of issue 6 (5 mm / 2° waypoints, 0.05 rad joint steps, 10 % margin).
+    ///
+    /// ```
+    /// let p = helixreach::planning::rig::PlannerSettings::default();
+    /// assert_eq!(p.max_joint_step, 0.05);
+    /// assert_eq!(p.margin, 0.10);
+    /// ```
+    fn default() -> Self {
+        PlannerSettings {
+            margin: 0.10,
+            max_end_step: 0.005,
+            max_end_angle: 2.0 * DEG,
+            waypoints: 0,
+            max_waypoints: 20_000,
+            max_joint_step: 0.05,
+            redundancy_samples: 12,
+            segment_check_step: 0.02,
+            rod_capsules: 24,
+            rod_clearance: 0.005,
+            rod_end_exclusion: 0.05,
+            end_speed: 0.01,
+            velocity_scale: 0.5,
+            joint_weights: Vec::new(),
+            motor_weight: 0.0,
+        }
+    }
+}
+
+/// A validated rig.
+#[derive(Debug, Clone)]
+pub struct Rig {
+    /// Rig name.
+    pub name: String,
+    /// Free-text description.
+    pub description: String,
+    /// Where it came from (a path, or `<embedded NAME>`), for messages.
+    pub source: String,
+    /// The robot.
+    pub robot: RobotSpec,
+    /// Tip link → tool frame.
+    pub tool: Iso3,
+    /// Base → clamp frame (`[d1 d2 d3]` as the rotation's columns).
+    pub clamp: Iso3,
+    /// The rod.
+    pub rod: RodSpec,
+    /// The motor.
+    pub motor: MotorSpec,
+    /// Roll mode.
+    pub roll: RollMode,
+    /// Roll seeds per redundancy sample in [`RollMode::Motor`].
+    pub roll_samples: usize,
+    /// Helix azimuths α (rad) tried per ray.
+    pub azimuths: Vec<Real>,
+    /// Scene obstacles.
+    pub obstacles: Vec<ObstacleSpec>,
+    /// Planner settings.
+    pub planner: PlannerSettings,
+}
+
+/// `P = [e2 e1 −e3]`: the tool frame expressed in the rod's `[d1 d2 d3]` frame.
+pub fn tool_from_director() -> Mat3 {
+    Mat3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0)
+}
+
+impl Rig {
+    /// Load a rig from a path, or by the name of an embedded rig (`sawyer-seed`).
+    /// A path that exists wins over an embedded name.
+    pub fn load(name_or_path: &str) -> Result<Rig> {
+        let p = Path::new(name_or_path);
+        if p.is_file() {
+            return Rig::from_file(p);
+        }
+        if let Some((name, text)) = EMBEDDED_RIGS.iter().find(|(n, _)| *n == name_or_path) {
+            return Rig::from_toml_str(
+                text,
+                &format!("<embedded {name}>"),
+                Path::new(EMBEDDED_DIR),
+            );
+        }
+        let names: Vec<&str> = EMBEDDED_RIGS.iter().map(|(n, _)| *n).collect();
+        Err(Error::File {
+            path: p.to_path_buf(),
+            reason: format!(
+                "no such rig file, and not an embedded rig name (embedded: {})",
+                names.join(", ")
+            ),
+        })
+    }
+
+    /// Load and validate a rig file.
+    pub fn from_file(path: &Path) -> Result<Rig> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        Rig::from_toml_str(&text, &path.display().to_string(), dir)
+    }
+
+    /// Parse and validate rig TOML. `source` names the file in messages; relative paths in the
+    /// rig resolve against `dir`.
+    pub fn from_toml_str(text: &str, source: &str, dir: &Path) -> Result<Rig> {
+        let raw: RawRig = toml::from_str(text).map_err(|e| Error::File {
+            path: PathBuf::from(source),
+            reason: format!("not a valid rig file: {e}"),
+        })?;
+        validate(raw, source, dir)
+    }
+
+    /// The clamp frame's rotation `[d1 d2 d3]` in the base frame.
+    pub fn clamp_rotation(&self) -> Mat3 {
+        self.clamp.rotation.to_rotation_matrix().into_inner()
+    }
+
+    /// Pose of the tool frame for the straight rod: `clamp + L·d3`, rotation `R_clamp·P`.
+    pub fn straight_tool_pose(&self) -> Iso3 {
+        let r = self.clamp_rotation();
+        let p = self.clamp.translation.vector + self.rod.length * r.column(2);
+        iso_from(&(r * tool_from_director()), &p)
+    }
+
+    /// The motor angle making the material frame from the arm's frame: in [`RollMode::Fixed`]
+    /// the arm holds the transported frame and the motor angle is `ω·s/c`.
+    pub fn twist_ratio(&self) -> Real {
+        self.rod.twist_ratio()
+    }
+}
+
+/// An isometry from a rotation matrix (assumed orthonormal) and a translation.
+pub fn iso_from(r: &Mat3, p: &Vec3) -> Iso3 {
+    let rot = nalgebra::Rotation3::from_matrix_unchecked(*r);
+    Iso3::from_parts(
+        nalgebra::Translation3::from(*p),
+        nalgebra::UnitQuaternion::from_rotation_matrix(&rot),
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// Raw TOML structs.
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRig {
+    name: String,
+    #[serde(default)]
+    description: String,
+    robot: RawRobot,
+    #[serde(default)]
+    tool: RawTool,
+    clamp: RawClamp,
+    rod: RawRod,
+    motor: RawMotor,
+    #[serde(default)]
+    roll: RawRoll,
+    #[serde(default)]
+    azimuth: RawAzimuth,
+    #[serde(default, rename = "obstacle")]
+    obstacles: Vec<RawObstacle>,
+    #[serde(default)]
+    planner: RawPlanner,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRobot {
+    urdf: String,
+    tip_link: String,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawTool {
+    #[serde(default)]
+    xyz: [Real; 3],
+    #[serde(default)]
+    rpy: [Real; 3],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawClamp {
+    origin: [Real; 3],
+    d1: [Real; 3],
+    d3: [Real; 3],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRod {
+    length: Real,
+    #[serde(default)]
+    diameter: Option<Real>,
+    #[serde(default)]
+    radius: Option<Real>,
+    youngs_modulus: Real,
+    poisson: Real,
+    density: Real,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMotor {
+    max_velocity: Real,
+    #[serde(default)]
+    lower: Option<Real>,
+    #[serde(default)]
+    upper: Option<Real>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRoll {
+    #[serde(default = "default_roll_mode")]
+    mode: String,
+    #[serde(default = "default_roll_samples")]
+    samples: usize,
+}
+
+fn default_roll_mode() -> String {
+    "fixed".into()
+}
+fn default_roll_samples() -> usize {
+    4
+}
+
+impl Default for RawRoll {
+    fn default() -> Self {
+        RawRoll {
+            mode: default_roll_mode(),
+            samples: default_roll_samples(),
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawAzimuth {
+    #[serde(default)]
+    choices: Option<Vec<Real>>,
+    #[serde(default)]
+    count: Option<usize>,
+}
+
+impl Default for RawAzimuth {
+    fn default() -> Self {
+        RawAzimuth {
+            choices: Some(vec![0.0]),
+            count: None,
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawObstacle {
+    name: String,
+    shape: RawShape,
+    #[serde(default)]
+    pose: RawPose,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum RawShape {
+    Box { half_extents: [Real; 3] },
+    Cylinder { radius: Real, half_height: Real },
+    Capsule { radius: Real, half_height: Real },
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawPose {
+    #[serde(default)]
+    xyz: [Real; 3],
+    #[serde(default)]
+    rpy: [Real; 3],
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawPlanner {
+    margin: Option<Real>,
+    max_end_step: Option<Real>,
+    max_end_angle_deg: Option<Real>,
+    waypoints: Option<usize>,
+    max_waypoints: Option<usize>,
+    max_joint_step: Option<Real>,
+    redundancy_samples: Option<usize>,
+    segment_check_step: Option<Real>,
+    rod_capsules: Option<usize>,
+    rod_clearance: Option<Real>,
+    rod_end_exclusion: Option<Real>,
+    end_speed: Option<Real>,
+    velocity_scale: Option<Real>,
+    joint_weights: Option<Vec<Real>>,
+    motor_weight: Option<Real>,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation.
+
+struct Ctx<'a> {
+    source: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, field: &str, value: impl std::fmt::Display, reason: &str) -> Error {
+        Error::invalid(format!("{}: {field}", self.source), value, reason)
+    }
+    fn finite(&self, field: &str, v: Real) -> Result<Real> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(field, v, "must be finite"))
+        }
+    }
+    fn positive(&self, field: &str, v: Real) -> Result<Real> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(field, v, "must be finite and > 0"))
+        }
+    }
+    fn non_negative(&self, field: &str, v: Real) -> Result<Real> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(field, v, "must be finite and >= 0"))
+        }
+    }
+    fn vec3(&self, field: &str, v: [Real; 3]) -> Result<Vec3> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(Vec3::new(v[0], v[1], v[2]))
+        } else {
+            Err(self.err(field, format!("{v:?}"), "must be three finite numbers"))
+        }
+    }
+    fn count(&self, field: &str, v: usize, min: usize) -> Result<usize> {
+        if v >= min {
+            Ok(v)
+        } else {
+            Err(self.err(field, v, &format!("must be >= {min}")))
+        }
+    }
+}
+
+fn rpy_matrix(rpy: &Vec3) -> Mat3 {
+    nalgebra::Rotation3::from_euler_angles(rpy.x, rpy.y, rpy.z).into_inner()
+}
+
+fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
+    let c = Ctx { source };
+    if raw.name.trim().is_empty() {
+        return Err(c.err("name", "\"\"", "must not be empty"));
+    }
+
+    // Robot.
+    if raw.robot.tip_link.trim().is_empty() {
+        return Err(c.err("robot.tip_link", "\"\"", "must name a link of the URDF"));
+    }
+    if raw.robot.urdf.trim().is_empty() {
+        return Err(c.err("robot.urdf", "\"\"", "must name a URDF file"));
+    }
+
+    // Tool transform.
+    let txyz = c.vec3("tool.xyz", raw.tool.xyz)?;
+    let trpy = c.vec3("tool.rpy", raw.tool.rpy)?;
+    let tool = iso_from(&rpy_matrix(&trpy), &txyz);
+
+    // Clamp frame.
+    let origin = c.vec3("clamp.origin", raw.clamp.origin)?;
+    let d1 = c.vec3("clamp.d1", raw.clamp.d1)?;
+    let d3 = c.vec3("clamp.d3", raw.clamp.d3)?;
+    if d1.norm() == 0.0 {
+        return Err(c.err(
+            "clamp.d1",
+            format!("{:?}", raw.clamp.d1),
+            "must be non-zero",
+        ));
+    }
+    if d3.norm() == 0.0 {
+        return Err(c.err(
+            "clamp.d3",
+            format!("{:?}", raw.clamp.d3),
+            "must be non-zero",
+        ));
+    }
+    let (d1, d3) = (d1.normalize(), d3.normalize());
+    if d1.dot(&d3).abs() > 1e-9 {
+        return Err(c.err(
+            "clamp.d1",
+            format!("{:?}", raw.clamp.d1),
+            &format!(
+                "must be perpendicular to clamp.d3 (d1·d3 = {:.3e} after normalizing)",
+                d1.dot(&d3)
+            ),
+        ));
+    }
+    let d2 = d3.cross(&d1);
+    let rc = Mat3::from_columns(&[d1, d2, d3]);
+    let clamp = iso_from(&rc, &origin);
+
+    // Rod.
+    let length = c.positive("rod.length", raw.rod.length)?;
+    let radius = match (raw.rod.diameter, raw.rod.radius) {
+        (Some(d), None) => 0.5 * c.positive("rod.diameter", d)?,
+        (None, Some(r)) => c.positive("rod.radius", r)?,
+        (Some(d), Some(_)) => {
+            return Err(c.err(
+                "rod.diameter",
+                d,
+                "give either rod.diameter or rod.radius, not both",
+            ))
+        }
+        (None, None) => {
+            return Err(c.err(
+                "rod.diameter",
+                "(missing)",
+                "give rod.diameter or rod.radius",
+            ))
+        }
+    };
+    if radius * 20.0 > length {
+        return Err(c.err(
+            "rod.diameter",
+            2.0 * radius,
+            &format!("a rod of length {length} m this thick is not slender (need 2r ≤ L/10)"),
+        ));
+    }
+    let youngs_modulus = c.positive("rod.youngs_modulus", raw.rod.youngs_modulus)?;
+    let poisson = c.finite("rod.poisson", raw.rod.poisson)?;
+    if !(poisson > -1.0 && poisson <= 0.5) {
+        return Err(c.err("rod.poisson", poisson, "must lie in (−1, 0.5]"));
+    }
+    let density = c.positive("rod.density", raw.rod.density)?;
+    let rod = RodSpec {
+        length,
+        radius,
+        youngs_modulus,
+        poisson,
+        density,
+    };
+
+    // Motor.
+    let max_velocity = c.positive("motor.max_velocity", raw.motor.max_velocity)?;
+    let lower = match raw.motor.lower {
+        Some(v) => c.finite("motor.lower", v)?,
+        None => Real::NEG_INFINITY,
+    };
+    let upper = match raw.motor.upper {
+        Some(v) => c.finite("motor.upper", v)?,
+        None => Real::INFINITY,
+    };
+    if !(lower < 0.0 && upper > 0.0) {
+        return Err(c.err(
+            "motor.lower",
+            format!("[{lower}, {upper}]"),
+            "the motor range must contain 0 (the straight rod) in its interior",
+        ));
+    }
+    let motor = MotorSpec {
+        max_velocity,
+        range: (lower, upper),
+    };
+
+    // Roll.
+    let roll: RollMode = raw
+        .roll
+        .mode
+        .parse()
+        .map_err(|_| c.err("roll.mode", &raw.roll.mode, "must be `fixed` or `motor`"))?;
+    let roll_samples = c.count("roll.samples", raw.roll.samples, 1)?;
+
+    // Azimuths.
+    let azimuths = match (raw.azimuth.choices, raw.azimuth.count) {
+        (Some(v), None) => {
+            if v.is_empty() {
+                return Err(c.err("azimuth.choices", "[]", "must list at least one azimuth"));
+            }
+            for (i, a) in v.iter().enumerate() {
+                c.finite(&format!("azimuth.choices[{i}]"), *a)?;
+            }
+            v
+        }
+        (None, Some(n)) => azimuth_grid(c.count("azimuth.count", n, 1)?),
+        (None, None) => vec![0.0],
+        (Some(_), Some(n)) => {
+            return Err(c.err(
+                "azimuth.count",
+                n,
+                "give either azimuth.choices or azimuth.count, not both",
+            ))
+        }
+    };
+
+    // Obstacles.
+    let mut obstacles = Vec::with_capacity(raw.obstacles.len());
+    for (i, o) in raw.obstacles.into_iter().enumerate() {
+        let f = |k: &str| format!("obstacle[{i}].{k}");
+        let center = c.vec3(&f("pose.xyz"), o.pose.xyz)?;
+        let rpy = c.vec3(&f("pose.rpy"), o.pose.rpy)?;
+        let pose = iso_from(&rpy_matrix(&rpy), &center);
+        let shape = match o.shape {
+            RawShape::Box { half_extents: h } => {
+                for (k, v) in h.iter().enumerate() {
+                    c.positive(&f(&format!("shape.half_extents[{k}]")), *v)?;
+                }
+                ObstacleShape::Box {
+                    half_extents: Vec3::new(h[0], h[1], h[2]),
+                }
+            }
+            RawShape::Cylinder {
+                radius,
+                half_height,
+            } => ObstacleShape::Cylinder {
+                radius: c.positive(&f("shape.radius"), radius)?,
+                half_height: c.positive(&f("shape.half_height"), half_height)?,
+            },
+            RawShape::Capsule {
+                radius,
+                half_height,
+            } => ObstacleShape::Capsule {
+                radius: c.positive(&f("shape.radius"), radius)?,
+                half_height: c.non_negative(&f("shape.half_height"), half_height)?,
+            },
+        };
+        obstacles.push(ObstacleSpec {
+            name: o.name,
+            pose,
+            shape,
+        });
+    }
+
+    // Planner.
+    let d = PlannerSettings::default();
+    let p = raw.planner;
+    let margin = c.finite("planner.margin", p.margin.unwrap_or(d.margin))?;
+    if !(margin > 0.0 && margin <= 1.0) {
+        return Err(c.err(
+            "planner.margin",
+            margin,
+            "must lie in (0, 1]: the rod must be driven past the boundary to be seen to snap",
+        ));
+    }
+    let max_joint_step = c.positive(
+        "planner.max_joint_step",
+        p.max_joint_step.unwrap_or(d.max_joint_step),
+    )?;
+    if max_joint_step > std::f64::consts::PI {
+        return Err(c.err("planner.max_joint_step", max_joint_step, "must be ≤ π rad"));
+    }
+    let max_end_angle = c.positive(
+        "planner.max_end_angle_deg",
+        p.max_end_angle_deg.unwrap_or(d.max_end_angle / DEG),
+    )? * DEG;
+    let velocity_scale = c.positive(
+        "planner.velocity_scale",
+        p.velocity_scale.unwrap_or(d.velocity_scale),
+    )?;
+    if velocity_scale > 1.0 {
+        return Err(c.err(
+            "planner.velocity_scale",
+            velocity_scale,
+            "must lie in (0, 1]",
+        ));
+    }
+    let joint_weights = p.joint_weights.unwrap_or_default();
+    for (i, w) in joint_weights.iter().enumerate() {
+        c.positive(&format!("planner.joint_weights[{i}]"), *w)?;
+    }
+    let max_waypoints = c.count(
+        "planner.max_waypoints",
+        p.max_waypoints.unwrap_or(d.max_waypoints),
+        2,
+    )?;
+    let waypoints = p.waypoints.unwrap_or(d.waypoints);
+    if waypoints == 1 || waypoints > max_waypoints {
+        return Err(c.err(
+            "planner.waypoints",
+            waypoints,
+            &format!("must be 0 (adaptive) or in [2, planner.max_waypoints = {max_waypoints}]"),
+        ));
+    }
+    let rod_end_exclusion = c.non_negative(
+        "planner.rod_end_exclusion",
+        p.rod_end_exclusion.unwrap_or(d.rod_end_exclusion),
+    )?;
+    if rod_end_exclusion >= length {
+        return Err(c.err(
+            "planner.rod_end_exclusion",
+            rod_end_exclusion,
+            &format!("must be shorter than the rod (rod.length = {length})"),
+        ));
+    }
+    let planner = PlannerSettings {
+        margin,
+        max_end_step: c.positive(
+            "planner.max_end_step",
+            p.max_end_step.unwrap_or(d.max_end_step),
+        )?,
+        max_end_angle,
+        waypoints,
+        max_waypoints,
+        max_joint_step,
+        redundancy_samples: c.count(
+            "planner.redundancy_samples",
+            p.redundancy_samples.unwrap_or(d.redundancy_samples),
+            1,
+        )?,
+        segment_check_step: c.positive(
+            "planner.segment_check_step",
+            p.segment_check_step.unwrap_or(d.segment_check_step),
+        )?,
+        rod_capsules: c.count(
+            "planner.rod_capsules",
+            p.rod_capsules.unwrap_or(d.rod_capsules),
+            1,
+        )?,
+        rod_clearance: c.non_negative(
+            "planner.rod_clearance",
+            p.rod_clearance.unwrap_or(d.rod_clearance),
+        )?,
+        rod_end_exclusion,
+        end_speed: c.positive("planner.end_speed", p.end_speed.unwrap_or(d.end_speed))?,
+        velocity_scale,
+        joint_weights,
+        motor_weight: c.non_negative(
+            "planner.motor_weight",
+            p.motor_weight.unwrap_or(d.motor_weight),
+        )?,
+    };
+
+    Ok(Rig {
+        name: raw.name,
+        description: raw.description,
+        source: source.to_string(),
+        robot: RobotSpec {
+            urdf: raw.robot.urdf,
+            dir: dir.to_path_buf(),
+            tip_link: raw.robot.tip_link,
+        },
+        tool,
+        clamp,
+        rod,
+        motor,
+        roll,
+        roll_samples,
+        azimuths,
+        obstacles,
+        planner,
+    })
+}
+
+/// `n` azimuths equally spaced in [0, 2π), starting at 0.
+pub fn azimuth_grid(n: usize) -> Vec<Real> {
+    (0..n)
+        .map(|i| 2.0 * std::f64::consts::PI * i as Real / n.max(1) as Real)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn seed_text() -> &'static str {
+        EMBEDDED_RIGS[0].1
+    }
+
+    fn load_modified(from: &str, to: &str) -> Result<Rig> {
+        let t = seed_text();
+        assert!(t.contains(from), "fixture lacks `{from}`");
+        Rig::from_toml_str(
+            &t.replacen(from, to, 1),
+            "test.toml",
+            Path::new(EMBEDDED_DIR),
+        )
+    }
+
+    #[test]
+    fn seed_rig_frames() {
+        let rig = Rig::load("sawyer-seed").unwrap();
+        let rc = rig.clamp_rotation();
+        // d1 = +y, d2 = −x, d3 = +z.
+        assert!((rc.column(0) - Vec3::y()).norm() < 1e-15);
+        assert!((rc.column(1) + Vec3::x()).norm() < 1e-15);
+        assert!((rc.column(2) - Vec3::z()).norm() < 1e-15);
+        assert!((tool_from_director().determinant() - 1.0).abs() < 1e-15);
+        assert_eq!(rig.roll, RollMode::Fixed);
+        assert!((rig.rod.radius - 0.79375e-3).abs() < 1e-12);
+        assert_eq!(rig.obstacles.len(), 1);
+        assert!((rig.planner.max_end_angle - 2.0 * DEG).abs() < 1e-15);
+    }
+
+    #[test]
+    fn errors_name_file_field_and_value() {
+        let cases = [
+            ("margin = 0.10", "margin = 0.0", "planner.margin"),
+            ("length = 0.51", "length = -0.51", "rod.length"),
+            ("poisson = 0.33", "poisson = 0.7", "rod.poisson"),
+            ("d1 = [0.0, 1.0, 0.0]", "d1 = [0.0, 0.0, 1.0]", "clamp.d1"),
+            ("mode = \"fixed\"", "mode = \"wobbly\"", "roll.mode"),
+            ("urdf = \"sawyer\"", "urdf = \"\"", "robot.urdf"),
+            (
+                "max_joint_step = 0.05",
+                "max_joint_step = 0.0",
+                "planner.max_joint_step",
+            ),
+            ("type = \"box\"", "type = \"cone\"", "cone"),
+            (
+                "half_extents = [0.40,",
+                "half_extents = [-0.40,",
+                "obstacle[0].shape.half_extents[0]",
+            ),
+            (
+                "max_velocity = 3.0",
+                "max_velocity = nan",
+                "motor.max_velocity",
+            ),
+        ];
+        for (from, to, field) in cases {
+            let e = load_modified(from, to).unwrap_err().to_string();
+            assert!(e.contains("test.toml") && e.contains(field), "{to}: {e}");
+        }
+        // Unknown fields are typos, not silently ignored.
+        let e = load_modified("margin = 0.10", "marjin = 0.10")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("marjin"), "{e}");
+        // A missing rig names what it looked for.
+        let e = Rig::load("no-such-rig").unwrap_err().to_string();
+        assert!(
+            e.contains("no-such-rig") && e.contains("sawyer-seed"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn azimuth_count_and_roll_mode_parse() {
+        let rig = load_modified("choices = [0.0]", "count = 4").unwrap();
+        assert_eq!(rig.azimuths.len(), 4);
+        assert!((rig.azimuths[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert_eq!("motor".parse::<RollMode>().unwrap(), RollMode::Motor);
+    }
+}

@@ -1,0 +1,318 @@
+//! Time parametrization of a planned joint + motor path and its writers (CSV and a JSON shaped like
+//! ROS `trajectory_msgs/JointTrajectory`).
+//!
+//! # Timing
+//! Segment k (waypoint k → k+1) lasts the shortest time that keeps every limit:
+//!
+//! `Δt_k = max( max_j |Δq_j| / v_j ,  |Δm| / v_m ,  |Δp| / v_end ,  Δθ_end·L / v_end )`
+//!
+//! with `v_j` the joint speed limits (already scaled by the rig's `velocity_scale`), `v_m` the
+//! motor limit, `v_end` the quasi-static rod-end speed, `Δp` and `Δθ_end` the rod end's translation
+//! and rotation (the rotation converted to a speed through the rod length L). Within a segment the
+//! motion is linear in joint space at constant speed, so every limit holds on the whole segment.
+//! The velocity stored at a waypoint is the mean of its two adjacent segment velocities (zero at
+//! both ends): a convex combination of in-limit values, hence in limit too.
+//!
+//! # Outputs
+//! - CSV: `t,q0..q{n-1},motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz`; the pose is the tool frame in
+//!   the robot base frame, the quaternion scalar first.
+//! - JSON: `{"header":{"frame_id":…},"joint_names":[…, motor],"points":[{"positions":[…],
+//!   "velocities":[…],"time_from_start":{"secs":…,"nsecs":…}}]}`; the motor is the last joint.
+
+use crate::error::{Error, Result};
+use crate::math::{rotation_angle, Iso3, Real};
+use std::fmt::Write as _;
+
+/// One sample of a trajectory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrajectoryPoint {
+    /// Time from start (s).
+    pub t: Real,
+    /// Joint positions (rad).
+    pub q: Vec<Real>,
+    /// Motor angle (rad).
+    pub motor: Real,
+    /// Distance along the ray (nondimensional).
+    pub s: Real,
+    /// Helix parameters (κ, τ, ω) = s·S̄.
+    pub kto: [Real; 3],
+    /// Tool pose (rod end) in the robot base frame.
+    pub pose: Iso3,
+}
+
+/// A time-parametrized joint + motor trajectory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory {
+    /// Arm joint names, in the order of [`TrajectoryPoint::q`].
+    pub joint_names: Vec<String>,
+    /// Name of the motor joint (last in the JSON).
+    pub motor_name: String,
+    /// The robot base frame name.
+    pub frame_id: String,
+    /// Samples, in time order.
+    pub points: Vec<TrajectoryPoint>,
+}
+
+/// Limits of [`time_parametrize`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimingLimits {
+    /// Joint speed limits (rad/s), one per joint.
+    pub joint_velocity: Vec<Real>,
+    /// Motor speed limit (rad/s).
+    pub motor_velocity: Real,
+    /// Quasi-static rod-end speed (m/s).
+    pub end_speed: Real,
+    /// Rod length (m), converting end rotation to a speed.
+    pub rod_length: Real,
+}
+
+/// Fill the times of `points` (the first at t = 0) within `limits`; see the module docs.
+///
+/// ```
+/// use helixreach::planning::trajectory::{time_parametrize, TimingLimits, TrajectoryPoint};
+/// use helixreach::math::Iso3;
+/// let p = |q: f64, m: f64| TrajectoryPoint { t: 0.0, q: vec![q], motor: m, s: 0.0,
+///     kto: [0.0; 3], pose: Iso3::identity() };
+/// let mut pts = vec![p(0.0, 0.0), p(0.5, 0.0), p(0.5, 2.0)];
+/// let lim = TimingLimits { joint_velocity: vec![1.0], motor_velocity: 4.0, end_speed: 1.0,
+///     rod_length: 1.0 };
+/// time_parametrize(&mut pts, &lim).unwrap();
+/// assert_eq!([pts[1].t, pts[2].t], [0.5, 1.0]);
+/// ```
+pub fn time_parametrize(points: &mut [TrajectoryPoint], limits: &TimingLimits) -> Result<()> {
+    for (j, v) in limits.joint_velocity.iter().enumerate() {
+        if !(v.is_finite() && *v > 0.0) {
+            return Err(Error::invalid(
+                format!("joint velocity limit [{j}]"),
+                v,
+                "must be finite and > 0",
+            ));
+        }
+    }
+    for (name, v) in [
+        ("motor velocity limit", limits.motor_velocity),
+        ("end speed", limits.end_speed),
+        ("rod length", limits.rod_length),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::invalid(name, v, "must be finite and > 0"));
+        }
+    }
+    if let Some(first) = points.first_mut() {
+        first.t = 0.0;
+    }
+    for k in 1..points.len() {
+        let (a, b) = (&points[k - 1], &points[k]);
+        if a.q.len() != limits.joint_velocity.len() || b.q.len() != a.q.len() {
+            return Err(Error::invalid(
+                "trajectory joints",
+                b.q.len(),
+                format!("every point needs {} joints", limits.joint_velocity.len()),
+            ));
+        }
+        let mut dt: Real = 0.0;
+        for j in 0..a.q.len() {
+            dt = dt.max((b.q[j] - a.q[j]).abs() / limits.joint_velocity[j]);
+        }
+        dt = dt.max((b.motor - a.motor).abs() / limits.motor_velocity);
+        let dp = (b.pose.translation.vector - a.pose.translation.vector).norm();
+        let dr = rotation_angle(
+            &(a.pose.rotation.inverse() * b.pose.rotation)
+                .to_rotation_matrix()
+                .into_inner(),
+        );
+        dt = dt.max(dp / limits.end_speed);
+        dt = dt.max(dr * limits.rod_length / limits.end_speed);
+        if !dt.is_finite() {
+            return Err(Error::invalid(
+                "trajectory segment",
+                k,
+                "non-finite duration",
+            ));
+        }
+        let t0 = points[k - 1].t;
+        points[k].t = t0 + dt;
+    }
+    Ok(())
+}
+
+impl Trajectory {
+    /// Joint + motor velocities at each point: the mean of the adjacent segment velocities,
+    /// zero at both ends. Row k has `q.len() + 1` entries (the motor last).
+    pub fn velocities(&self) -> Vec<Vec<Real>> {
+        let n = self.points.len();
+        let dof = self.points.first().map_or(0, |p| p.q.len());
+        let seg = |k: usize| -> Vec<Real> {
+            // Velocity of segment k → k+1 (zero for a zero-length segment).
+            let (a, b) = (&self.points[k], &self.points[k + 1]);
+            let dt = b.t - a.t;
+            let mut v: Vec<Real> = (0..dof)
+                .map(|j| {
+                    if dt > 0.0 {
+                        (b.q[j] - a.q[j]) / dt
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            v.push(if dt > 0.0 {
+                (b.motor - a.motor) / dt
+            } else {
+                0.0
+            });
+            v
+        };
+        (0..n)
+            .map(|k| {
+                if k == 0 || k + 1 == n {
+                    vec![0.0; dof + 1]
+                } else {
+                    let (u, w) = (seg(k - 1), seg(k));
+                    u.iter().zip(&w).map(|(a, b)| 0.5 * (a + b)).collect()
+                }
+            })
+            .collect()
+    }
+
+    /// The CSV text (header + one row per point), full precision.
+    pub fn to_csv(&self) -> String {
+        let dof = self
+            .points
+            .first()
+            .map_or(self.joint_names.len(), |p| p.q.len());
+        let mut s = String::from("t");
+        for j in 0..dof {
+            let _ = write!(s, ",q{j}");
+        }
+        s.push_str(",motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz\n");
+        for p in &self.points {
+            let _ = write!(s, "{}", p.t);
+            for q in &p.q {
+                let _ = write!(s, ",{q}");
+            }
+            let tr = p.pose.translation.vector;
+            let r = p.pose.rotation.quaternion();
+            let _ = writeln!(
+                s,
+                ",{},{},{},{},{},{},{},{},{},{},{},{}",
+                p.motor, p.s, p.kto[0], p.kto[1], p.kto[2], tr.x, tr.y, tr.z, r.w, r.i, r.j, r.k
+            );
+        }
+        s
+    }
+
+    /// The JSON text shaped like ROS `trajectory_msgs/JointTrajectory` (motor as the last joint).
+    pub fn to_json(&self) -> String {
+        let vel = self.velocities();
+        let mut names = self.joint_names.clone();
+        names.push(self.motor_name.clone());
+        let points: Vec<serde_json::Value> = self
+            .points
+            .iter()
+            .zip(vel)
+            .map(|(p, v)| {
+                let mut pos = p.q.clone();
+                pos.push(p.motor);
+                let secs = p.t.floor();
+                let nsecs = ((p.t - secs) * 1e9).round().min(999_999_999.0);
+                serde_json::json!({
+                    "positions": pos,
+                    "velocities": v,
+                    "time_from_start": {"secs": secs as i64, "nsecs": nsecs as i64},
+                })
+            })
+            .collect();
+        let doc = serde_json::json!({
+            "header": {"frame_id": self.frame_id},
+            "joint_names": names,
+            "points": points,
+        });
+        serde_json::to_string_pretty(&doc).unwrap_or_default()
+    }
+
+    /// Total duration (s).
+    pub fn duration(&self) -> Real {
+        self.points.last().map_or(0.0, |p| p.t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Quat, Vec3};
+
+    fn pt(q: [Real; 2], m: Real, x: Real, a: Real) -> TrajectoryPoint {
+        TrajectoryPoint {
+            t: 0.0,
+            q: q.to_vec(),
+            motor: m,
+            s: x,
+            kto: [x, 0.0, 0.0],
+            pose: Iso3::from_parts(
+                Vec3::new(x, 0.0, 0.0).into(),
+                Quat::from_axis_angle(&Vec3::z_axis(), a),
+            ),
+        }
+    }
+
+    #[test]
+    fn every_limit_holds_and_one_is_tight_per_segment() {
+        let lim = TimingLimits {
+            joint_velocity: vec![1.0, 2.0],
+            motor_velocity: 3.0,
+            end_speed: 0.01,
+            rod_length: 0.5,
+        };
+        let mut pts = vec![
+            pt([0.0, 0.0], 0.0, 0.0, 0.0),
+            pt([0.3, 0.0], 0.0, 0.0, 0.0),  // joint 0 limits: 0.3 s
+            pt([0.3, 1.0], 0.0, 0.0, 0.0),  // joint 1: 0.5 s
+            pt([0.3, 1.0], 3.0, 0.0, 0.0),  // motor: 1 s
+            pt([0.3, 1.0], 3.0, 0.02, 0.0), // translation: 2 s
+            pt([0.3, 1.0], 3.0, 0.02, 0.1), // rotation: 0.1·0.5/0.01 = 5 s
+        ];
+        time_parametrize(&mut pts, &lim).unwrap();
+        let dts: Vec<f64> = pts.windows(2).map(|w| w[1].t - w[0].t).collect();
+        for (got, want) in dts.iter().zip([0.3, 0.5, 1.0, 2.0, 5.0]) {
+            assert!((got - want).abs() < 1e-12, "{dts:?}");
+        }
+        let traj = Trajectory {
+            joint_names: vec!["a".into(), "b".into()],
+            motor_name: "rod_motor".into(),
+            frame_id: "base".into(),
+            points: pts,
+        };
+        for v in traj.velocities() {
+            assert!(
+                v[0].abs() <= 1.0 + 1e-12 && v[1].abs() <= 2.0 + 1e-12 && v[2].abs() <= 3.0 + 1e-12
+            );
+        }
+        let csv = traj.to_csv();
+        assert!(csv.starts_with("t,q0,q1,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz\n"));
+        assert_eq!(csv.lines().count(), 7);
+        let json: serde_json::Value = serde_json::from_str(&traj.to_json()).unwrap();
+        assert_eq!(json["joint_names"][2], "rod_motor");
+        assert_eq!(json["points"][5]["time_from_start"]["secs"], 8);
+        assert!(
+            (json["points"][5]["time_from_start"]["nsecs"]
+                .as_i64()
+                .unwrap()
+                - 800_000_000)
+                .abs()
+                <= 1
+        );
+        assert_eq!(json["points"][3]["positions"][2], 3.0);
+    }
+
+    #[test]
+    fn bad_limits_are_errors() {
+        let mut pts = vec![pt([0.0, 0.0], 0.0, 0.0, 0.0)];
+        let lim = TimingLimits {
+            joint_velocity: vec![1.0, 0.0],
+            motor_velocity: 3.0,
+            end_speed: 0.01,
+            rod_length: 0.5,
+        };
+        assert!(time_parametrize(&mut pts, &lim).is_err());
+    }
+}
