@@ -1,10 +1,140 @@
-//! `helixreach helix` (not implemented yet).
+//! `helixreach helix`: the end pose of the rod for one helix (JSON), or for every row of a CSV
+//! (CSV, 17 significant digits). Thin glue over [`helixreach::helix`].
+
+use anyhow::Context;
+use helixreach::helix::{twist_ratio, EndPose, Helix, DEFAULT_NU};
+use helixreach::math::Real;
+use helixreach::Error;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `helixreach helix`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+#[command(group(clap::ArgGroup::new("input").required(true).args(["kappa", "points"])))]
+pub struct Args {
+    /// Curvature κ ≥ 0 (nondimensional, L = 1).
+    #[arg(long, allow_negative_numbers = true, requires_all = ["tau", "omega"])]
+    kappa: Option<Real>,
+    /// Torsion τ (nondimensional).
+    #[arg(long, allow_negative_numbers = true, requires = "kappa")]
+    tau: Option<Real>,
+    /// Twisting moment ω (nondimensional).
+    #[arg(long, allow_negative_numbers = true, requires = "kappa")]
+    omega: Option<Real>,
+    /// Poisson's ratio ν ∈ (−1, 0.5]; the motor angle is ω/c with c = 1/(1+ν).
+    #[arg(long, default_value_t = DEFAULT_NU, allow_negative_numbers = true)]
+    nu: Real,
+    /// Rod length L (> 0); positions come out in its unit.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    length: Real,
+    /// CSV file with header `kappa,tau,omega` (other columns ignored): one end pose per row,
+    /// written as CSV to stdout.
+    #[arg(long, conflicts_with_all = ["kappa", "tau", "omega"])]
+    points: Option<PathBuf>,
+}
 
 /// Run `helixreach helix`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach helix` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let c = twist_ratio(args.nu)?;
+    if !(args.length.is_finite() && args.length > 0.0) {
+        return Err(Error::invalid("length", args.length, "must be finite and > 0").into());
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    match (&args.points, args.kappa, args.tau, args.omega) {
+        (Some(path), ..) => points(path, args.length, c, &mut out)?,
+        (None, Some(k), Some(t), Some(w)) => {
+            let h = Helix::new(k, t, w)?;
+            let pose = h.end_pose(args.length, args.nu)?;
+            let json = pose_json(&h, &pose, args.nu, c, args.length);
+            serde_json::to_writer_pretty(&mut out, &json)?;
+            writeln!(out)?;
+        }
+        _ => anyhow::bail!("give --kappa, --tau and --omega, or --points FILE.csv"),
+    }
+    out.flush().context("writing to stdout")?;
+    Ok(())
+}
+
+fn rows(m: &helixreach::math::Mat3) -> [[Real; 3]; 3] {
+    [0, 1, 2].map(|i| [m[(i, 0)], m[(i, 1)], m[(i, 2)]])
+}
+
+fn pose_json(h: &Helix, p: &EndPose, nu: Real, c: Real, length: Real) -> serde_json::Value {
+    serde_json::json!({
+        "inputs": {
+            "kappa": h.kappa(), "tau": h.tau(), "omega": h.omega(),
+            "nu": nu, "c": c, "length": length,
+        },
+        "frame": "clamp frame: origin at the clamped end, z = initial tangent, x = initial normal N0",
+        "position": [p.position.x, p.position.y, p.position.z],
+        "material_rows": rows(&p.material),
+        "transported_rows": rows(&p.transported),
+        "motor_angle": p.motor_angle,
+    })
+}
+
+/// The CSV header of `--points` output.
+pub const HEADER: &str =
+    "kappa,tau,omega,px,py,pz,r00,r01,r02,r10,r11,r12,r20,r21,r22,motor_angle";
+
+fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::Result<()> {
+    let file_err = |reason: String| Error::File {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let mut rdr = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_path(path)
+        .map_err(|e| file_err(e.to_string()))?;
+    let headers = rdr.headers().map_err(|e| file_err(e.to_string()))?.clone();
+    let col = |name: &str| {
+        headers.iter().position(|h| h == name).ok_or_else(|| {
+            file_err(format!(
+                "missing column `{name}` (header must contain kappa,tau,omega)"
+            ))
+        })
+    };
+    let cols = [col("kappa")?, col("tau")?, col("omega")?];
+    writeln!(out, "{HEADER}")?;
+    let mut n_rows = 0usize;
+    for (k, rec) in rdr.records().enumerate() {
+        let line = k + 2;
+        let bad = |field: &str, reason: String| Error::BadLine {
+            path: path.to_path_buf(),
+            line,
+            field: field.into(),
+            reason,
+        };
+        let rec = rec.map_err(|e| bad("record", e.to_string()))?;
+        let mut v = [0.0; 3];
+        for (j, name) in ["kappa", "tau", "omega"].iter().enumerate() {
+            let s = rec.get(cols[j]).unwrap_or("");
+            v[j] = s
+                .parse::<Real>()
+                .map_err(|_| bad(name, format!("`{s}` is not a number")))?;
+        }
+        let h = Helix::new(v[0], v[1], v[2]).map_err(|e| {
+            let field = match &e {
+                Error::InvalidParameter { field, .. } => field.clone(),
+                _ => "helix".to_string(),
+            };
+            bad(&field, e.to_string())
+        })?;
+        let p = h.end_pose_unchecked(length, c);
+        let mut fields = Vec::with_capacity(16);
+        fields.extend_from_slice(&v);
+        fields.extend_from_slice(p.position.as_slice());
+        for r in rows(&p.material) {
+            fields.extend_from_slice(&r);
+        }
+        fields.push(p.motor_angle);
+        let line_text: Vec<String> = fields.iter().map(|x| format!("{x:.16e}")).collect();
+        writeln!(out, "{}", line_text.join(","))?;
+        n_rows += 1;
+    }
+    if n_rows == 0 {
+        return Err(file_err("no rows after the header".into()).into());
+    }
+    Ok(())
 }
