@@ -71,8 +71,7 @@ fn end_pose(c: &mut Criterion) {
             for (h, _) in &hs {
                 let h = black_box(h);
                 let mut x = Matrix4::<f64>::zeros();
-                x.fixed_view_mut::<3, 3>(0, 0)
-                    .copy_from(&hat(&h.darboux()));
+                x.fixed_view_mut::<3, 3>(0, 0).copy_from(&hat(&h.darboux()));
                 x[(2, 3)] = 1.0;
                 black_box(x.exp());
             }

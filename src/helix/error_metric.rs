@@ -88,7 +88,7 @@ fn mean_deviation(q: &[Vec3], q_helix: &[Vec3]) -> Real {
 pub fn paper_error(q: &[Vec3], q_helix: &[Vec3], h: &Helix, length: Real) -> Result<Real> {
     check(q, q_helix)?;
     let length = crate::error::require_positive("length", length)?;
-    if !(h.kappa() > 0.0) {
+    if h.kappa() <= 0.0 {
         return Err(Error::invalid(
             "kappa",
             h.kappa(),

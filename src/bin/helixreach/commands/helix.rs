@@ -75,8 +75,7 @@ fn pose_json(h: &Helix, p: &EndPose, nu: Real, c: Real, length: Real) -> serde_j
 }
 
 /// The CSV header of `--points` output.
-pub const HEADER: &str =
-    "kappa,tau,omega,px,py,pz,r00,r01,r02,r10,r11,r12,r20,r21,r22,motor_angle";
+pub const HEADER: &str = "kappa,tau,omega,px,py,pz,r00,r01,r02,r10,r11,r12,r20,r21,r22,motor_angle";
 
 fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::Result<()> {
     let file_err = |reason: String| Error::File {
