@@ -1,1 +1,448 @@
-//! DER-statics stability boundary along a ray.
+//! The DER-statics stability boundary along a ray (DESIGN.md §3, "DER-predicted boundary").
+//!
+//! For a unit direction S̄ and a distance s, the rod of length 1 is clamped at both ends
+//! ([`crate::rod::clamp`]): edge 0 along z with the identity material frame at the origin, edge
+//! n−1 at the end of the helix `(κ, τ, ω) = s·S̄` with its tangent and its material frame (the
+//! transported frame turned by `ω/c` about the tangent). The equilibrium is found by Newton
+//! ([`crate::rod::statics`]) starting from the helix sampled at the nodes — the continuum
+//! equilibrium is the helix, so this start is `O(1/n²)` from the discrete equilibrium and no
+//! continuation in s is needed (every s is solved independently). The twist angles start at
+//! the uniform twist `θ_j = (ω/c)·s_j` relative to space-parallel reference frames (zero
+//! reference twist), and θ_{n−1} is the angle to the imposed end director chosen within π of
+//! ω/c: the winding number of the end rotation is the one reached continuously from the
+//! straight rod.
+//!
+//! Stable ⇔ the free Hessian is positive definite (banded LDLᵀ inertia, no eigen-solve). The
+//! critical distance s* is bracketed by stepping s geometrically (from 4, ×1.6) and then refined
+//! by regula falsi (Illinois) on the free Hessian's smallest-magnitude eigenvalue μ(s)
+//! (inverse iteration with the LDLᵀ factors), with the *predicate* deciding which end of the
+//! bracket moves and a bisection fallback whenever the bracket fails to halve, until the
+//! bracket width is ≤ `tol_rel·s`. A ray stable at `s_max` returns `s* = ∞`.
+//!
+//! The κ = 0 plane: the helix is the straight rod; on the τ axis it is untwisted and unloaded,
+//! stable for every s, and `s* = ∞` is returned; with ω ≠ 0 it is the twisted clamped rod.
+//!
+//! ```
+//! use helixreach::boundary::der::{critical_s, DerBoundaryParams};
+//! use helixreach::directions::Direction;
+//! // The κ axis: the arc closes into a circle at s* = 2π (continuum); n = 16 is within 2 %.
+//! let p = DerBoundaryParams { n_edges: 16, tol_rel: 1e-6, ..Default::default() };
+//! let r = critical_s(&Direction::new(1.0, 0.0, 0.0).unwrap(), &p).unwrap();
+//! assert!((r.s_star / std::f64::consts::TAU - 1.0).abs() < 0.02, "{}", r.s_star);
+//! ```
+
+use crate::directions::Direction;
+use crate::error::{require_finite, require_positive, Error, Result};
+use crate::math::{rot_z, so3_exp, so3_left_jacobian, tol, Mat3, Real, Vec3};
+use crate::rod::clamp::{clamp_nodes, ClampPlacement, End};
+use crate::rod::params::{twist_ratio, DEFAULT_STRETCH};
+use crate::rod::statics::{self, NewtonParams};
+use crate::rod::{Material, Rod, RodState, Workspace};
+
+/// First stretching stiffness of the continuation in [`DerRay::evaluate`].
+const STRETCH_START: Real = 1e4;
+/// Growth factor of the stretching stiffness per continuation step.
+const STRETCH_STEP: Real = 10.0;
+
+/// Newton iterations allowed from the predicted start before falling back.
+const PREDICTED_MAX_ITERS: usize = 5;
+/// First s probed when bracketing s*.
+const BRACKET_START: Real = 4.0;
+/// Growth factor of s while bracketing.
+const BRACKET_GROWTH: Real = 1.5;
+
+/// The critical distance along a ray (shared shape with the continuum method).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CriticalS {
+    /// Distance `s*` along the unit direction at which the helix loses stability;
+    /// `f64::INFINITY` if it is stable up to `s_max`.
+    pub s_star: Real,
+    /// Estimated absolute error of `s_star` from the root finding (half the final bracket; 0
+    /// when infinite). The discretization error (`O(1/n²)`, see the README) is not included.
+    pub est_error: Real,
+}
+
+/// Parameters of the DER-statics boundary.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DerBoundaryParams {
+    /// Number of edges n (≥ 4).
+    pub n_edges: usize,
+    /// Poisson's ratio ν ∈ (−1, 0.5]; c = 1/(1+ν).
+    pub nu: Real,
+    /// Relative tolerance on s* (bracket width / s), > 0.
+    pub tol_rel: Real,
+    /// Largest s searched; beyond it the ray is reported stable (`s* = ∞`).
+    pub s_max: Real,
+    /// Nondimensional stretching stiffness `k_s L²/k_b` (the continuum is inextensible).
+    pub stretch: Real,
+    /// Clamped-edge placement (default [`ClampPlacement::Straddle`], `O(1/n²)`).
+    pub clamp: ClampPlacement,
+}
+
+impl Default for DerBoundaryParams {
+    /// n = 100, ν = 0.33, tol_rel = 1e-8, s_max = [`tol::S_MAX`], stretch =
+    /// [`DEFAULT_STRETCH`], straddling clamps.
+    fn default() -> Self {
+        DerBoundaryParams {
+            n_edges: 100,
+            nu: 0.33,
+            tol_rel: 1e-8,
+            s_max: tol::S_MAX,
+            stretch: DEFAULT_STRETCH,
+            clamp: ClampPlacement::Straddle,
+        }
+    }
+}
+
+impl DerBoundaryParams {
+    /// Check every field.
+    pub fn validate(&self) -> Result<()> {
+        if self.n_edges < 4 {
+            return Err(Error::invalid(
+                "n_edges",
+                self.n_edges,
+                "the DER boundary needs at least 4 edges",
+            ));
+        }
+        twist_ratio(self.nu)?;
+        require_positive("tol_rel", self.tol_rel)?;
+        if self.tol_rel >= 0.5 {
+            return Err(Error::invalid("tol_rel", self.tol_rel, "must be < 0.5"));
+        }
+        require_positive("s_max", self.s_max)?;
+        require_positive("stretch", self.stretch)?;
+        Ok(())
+    }
+}
+
+/// Closed-form helix (clamp frame: Frenet frame = identity at s = 0, Darboux vector
+/// `w = (0, κ, τ)` in the Frenet frame). Private stand-in for `helixreach::helix`.
+#[derive(Debug, Clone, Copy)]
+struct HelixPose {
+    w: Vec3,
+    tau: Real,
+    twist_rate: Real,
+}
+
+impl HelixPose {
+    fn position(&self, s: Real) -> Vec3 {
+        so3_left_jacobian(&(s * self.w)) * Vec3::new(0.0, 0.0, s)
+    }
+    fn material_frame(&self, s: Real) -> Mat3 {
+        so3_exp(&(s * self.w)) * rot_z((self.twist_rate - self.tau) * s)
+    }
+}
+
+/// The DER rod of one ray, with its buffers (reused across the s evaluations of the ray).
+#[derive(Debug)]
+pub struct DerRay {
+    dir: Direction,
+    params: DerBoundaryParams,
+    c: Real,
+    rod: Rod,
+    ws: Workspace,
+    newton: NewtonParams,
+    nodes: Vec<Vec3>,
+    theta: Vec<Real>,
+    state: Option<RodState>,
+    evaluations: usize,
+    newton_iterations: usize,
+    correction: Vec<Real>,
+    has_correction: bool,
+}
+
+/// The outcome of one evaluation along a ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayPoint {
+    /// The distance s.
+    pub s: Real,
+    /// Negative eigenvalues of the free Hessian at the equilibrium (0 ⇔ stable).
+    pub negative: usize,
+    /// Estimate of the free Hessian's eigenvalue of smallest magnitude.
+    pub mu: Real,
+    /// Newton iterations.
+    pub iterations: usize,
+}
+
+impl DerRay {
+    /// Set up the rod for direction `dir`.
+    pub fn new(dir: &Direction, params: &DerBoundaryParams) -> Result<Self> {
+        params.validate()?;
+        for (f, v) in [
+            ("dir_kappa", dir.kappa),
+            ("dir_tau", dir.tau),
+            ("dir_omega", dir.omega),
+        ] {
+            require_finite(f, v)?;
+        }
+        let dir = Direction::new(dir.kappa, dir.tau, dir.omega)?;
+        let n = params.n_edges;
+        let c = twist_ratio(params.nu)?;
+        let h = params.clamp.edge_length(n, 1.0);
+        let rod = Rod::uniform(n, h, Material::nondimensional(params.nu, params.stretch)?)?;
+        let ws = Workspace::new(&rod);
+        Ok(DerRay {
+            dir,
+            params: *params,
+            c,
+            rod,
+            ws,
+            newton: NewtonParams::default(),
+            nodes: vec![Vec3::zeros(); n + 1],
+            theta: vec![0.0; n],
+            state: None,
+            evaluations: 0,
+            newton_iterations: 0,
+            correction: vec![0.0; 4 * n + 3],
+            has_correction: false,
+        })
+    }
+
+    /// The rod model.
+    pub fn rod(&self) -> &Rod {
+        &self.rod
+    }
+
+    /// `(evaluations, Newton iterations)` spent so far on this ray.
+    pub fn work(&self) -> (usize, usize) {
+        (self.evaluations, self.newton_iterations)
+    }
+
+    /// The last equilibrium computed by [`DerRay::evaluate`].
+    pub fn state(&self) -> Option<&RodState> {
+        self.state.as_ref()
+    }
+
+    /// The discrete helix at distance `s` with the clamps imposed: the Newton start.
+    pub fn initial_state(&mut self, s: Real) -> Result<RodState> {
+        let [k, t, w] = self.dir.at(s);
+        let hp = HelixPose {
+            w: Vec3::new(0.0, k, t),
+            tau: t,
+            twist_rate: w / self.c,
+        };
+        let n = self.params.n_edges;
+        let pl = self.params.clamp;
+        let h = pl.edge_length(n, 1.0);
+        let [a, b] = clamp_nodes(pl, End::Start, &Vec3::zeros(), &Vec3::z(), h);
+        self.nodes[0] = a;
+        self.nodes[1] = b;
+        for i in 2..n - 1 {
+            self.nodes[i] = hp.position(pl.node_arclength(n, i, 1.0));
+        }
+        let end_frame = hp.material_frame(1.0);
+        let t_end: Vec3 = end_frame.column(2).into();
+        let [a, b] = clamp_nodes(pl, End::End, &hp.position(1.0), &t_end, h);
+        self.nodes[n - 1] = a;
+        self.nodes[n] = b;
+        for j in 0..n {
+            self.theta[j] = hp.twist_rate * pl.edge_arclength(n, j, 1.0);
+        }
+        self.theta[0] = 0.0;
+        let mut st =
+            RodState::from_nodes(&self.nodes, &self.theta, &Vec3::x()).ok_or_else(|| {
+                Error::invalid("s", s, "degenerate discrete helix (coincident nodes)")
+            })?;
+        let m1: Vec3 = end_frame.column(0).into();
+        let th = st.theta_for_director(n - 1, &m1, hp.twist_rate);
+        st.set_theta(n - 1, th);
+        Ok(st)
+    }
+
+    /// Equilibrium and stability at distance `s`.
+    ///
+    /// Newton starts from the sampled discrete helix plus the discrete correction (equilibrium
+    /// minus sampled helix) of the previous evaluation on this ray, which varies smoothly with
+    /// s; if that fails (or on the first call) it starts from the sampled helix with a
+    /// continuation in the stretching stiffness (Newton's basin shrinks like ē/√k_s: a
+    /// transverse move δ strains an edge by δ²/2ē²).
+    pub fn evaluate(&mut self, s: Real) -> Result<RayPoint> {
+        let init = self.initial_state(s)?;
+        let free = self.rod.free_range_clamped();
+        let target = self.params.stretch;
+        let mut iterations = 0;
+        let mut found = None;
+        if self.has_correction {
+            let mut st = init.clone();
+            for k in free.clone() {
+                st.q[k] += self.correction[k];
+            }
+            if st.update_reference() {
+                self.rod.material.stretch = target;
+                let quick = NewtonParams {
+                    max_iters: PREDICTED_MAX_ITERS,
+                    ..self.newton
+                };
+                let r = statics::solve(&self.rod, &mut st, free.clone(), &mut self.ws, &quick);
+                match r {
+                    Ok(eq) => {
+                        iterations += eq.iterations;
+                        found = Some((eq, st));
+                    }
+                    Err(_) => iterations += PREDICTED_MAX_ITERS,
+                }
+            }
+        }
+        let (eq, st) = match found {
+            Some(x) => x,
+            None => {
+                let mut st = init.clone();
+                let mut ks = target.min(STRETCH_START);
+                loop {
+                    self.rod.material.stretch = ks;
+                    let r = statics::solve(
+                        &self.rod,
+                        &mut st,
+                        free.clone(),
+                        &mut self.ws,
+                        &self.newton,
+                    );
+                    let eq = match r {
+                        Ok(eq) => eq,
+                        Err(e) => {
+                            self.evaluations += 1;
+                            self.newton_iterations += iterations;
+                            return Err(e);
+                        }
+                    };
+                    iterations += eq.iterations;
+                    if ks >= target {
+                        break (eq, st);
+                    }
+                    ks = (ks * STRETCH_STEP).min(target);
+                }
+            }
+        };
+        let mu = self.ws.ldlt.smallest_eigenvalue(&self.ws.hess, free, 6);
+        for (c, (a, b)) in self.correction.iter_mut().zip(st.q.iter().zip(&init.q)) {
+            *c = a - b;
+        }
+        self.has_correction = true;
+        self.state = Some(st);
+        self.evaluations += 1;
+        self.newton_iterations += iterations;
+        Ok(RayPoint {
+            s,
+            negative: eq.negative,
+            mu,
+            iterations,
+        })
+    }
+
+    /// Stability at s for the root finding: `(stable, surrogate f, verified)`. The surrogate is
+    /// ±|μ| (sign from the inertia). A Newton failure counts as unstable but unverified (past
+    /// s* the helical branch may meet further singular points).
+    fn probe(&mut self, s: Real) -> Result<(bool, Real, bool)> {
+        match self.evaluate(s) {
+            Ok(pt) if pt.negative == 0 => Ok((true, pt.mu.abs(), true)),
+            Ok(pt) => Ok((false, -pt.mu.abs(), true)),
+            Err(Error::NotConverged { .. }) => Ok((false, Real::NAN, false)),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Locate s* on this ray (see the module docs).
+    pub fn critical_s(&mut self) -> Result<CriticalS> {
+        let p = self.params;
+        // Exactly on the τ axis the rod stays straight and unloaded: stable for every s.
+        if self.dir.kappa == 0.0 && self.dir.omega == 0.0 {
+            return Ok(CriticalS {
+                s_star: Real::INFINITY,
+                est_error: 0.0,
+            });
+        }
+        // Bracket: [lo, hi] with lo stable (or 0) and hi unstable.
+        let (mut lo, mut f_lo) = (0.0, Real::NAN);
+        let (mut hi, mut f_hi, mut hi_ok);
+        let mut s = BRACKET_START.min(p.s_max);
+        loop {
+            let (stable, f, ok) = self.probe(s)?;
+            if !stable {
+                (hi, f_hi, hi_ok) = (s, f, ok);
+                break;
+            }
+            (lo, f_lo) = (s, f);
+            if s >= p.s_max {
+                return Ok(CriticalS {
+                    s_star: Real::INFINITY,
+                    est_error: 0.0,
+                });
+            }
+            s = (BRACKET_GROWTH * s).min(p.s_max);
+        }
+        if lo == 0.0 {
+            // Unstable at the first probe: step down.
+            let mut s = hi / BRACKET_GROWTH;
+            loop {
+                let (stable, f, ok) = self.probe(s)?;
+                if stable {
+                    (lo, f_lo) = (s, f);
+                    break;
+                }
+                (hi, f_hi, hi_ok) = (s, f, ok);
+                s /= BRACKET_GROWTH;
+                if s < 1e-3 {
+                    return Err(Error::NotConverged {
+                        what: "DER boundary bracketing (unstable as s → 0)".into(),
+                        iterations: self.evaluations,
+                        residual: s,
+                    });
+                }
+            }
+        }
+        // Refine: Illinois regula falsi on f with a bisection safeguard.
+        let mut side = 0i8;
+        let mut width_before = hi - lo;
+        let mut iters = 0;
+        while hi - lo > p.tol_rel * lo || !hi_ok {
+            iters += 1;
+            if iters > 200 || (hi - lo) < 1e-15 * hi {
+                return Err(Error::NotConverged {
+                    what: "DER boundary refinement (no verified unstable end)".into(),
+                    iterations: iters,
+                    residual: hi - lo,
+                });
+            }
+            let w = hi - lo;
+            let mut s = if f_lo > 0.0 && f_hi < 0.0 {
+                lo + w * f_lo / (f_lo - f_hi)
+            } else {
+                0.5 * (lo + hi)
+            };
+            if iters % 2 == 0 {
+                if w > 0.5 * width_before {
+                    s = 0.5 * (lo + hi);
+                }
+                width_before = w;
+            }
+            let margin = (0.25 * p.tol_rel * lo).min(0.25 * w);
+            s = s.clamp(lo + margin, hi - margin);
+            let (stable, f, ok) = self.probe(s)?;
+            if stable {
+                (lo, f_lo) = (s, f);
+                if side == -1 {
+                    f_hi *= 0.5;
+                }
+                side = -1;
+            } else {
+                (hi, f_hi, hi_ok) = (s, f, ok);
+                if side == 1 {
+                    f_lo *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        Ok(CriticalS {
+            s_star: 0.5 * (lo + hi),
+            est_error: 0.5 * (hi - lo),
+        })
+    }
+}
+
+/// The DER-statics critical distance s* along `dir` (see the module docs).
+///
+/// Errors: invalid parameters (n < 4, ν ∉ (−1, 0.5], tol_rel ≤ 0, non-finite values), an
+/// invalid direction (NaN, zero, κ < 0), or a Newton failure.
+pub fn critical_s(dir: &Direction, params: &DerBoundaryParams) -> Result<CriticalS> {
+    DerRay::new(dir, params)?.critical_s()
+}

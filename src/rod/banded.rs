@@ -1,0 +1,307 @@
+//! Symmetric banded matrices and their LDLᵀ factorization with inertia.
+//!
+//! faer has no banded solver, and the DER Hessian is banded (half-bandwidth
+//! [`HALF_BANDWIDTH`] = 10 with the DOF order `x0, θ0, x1, θ1, …, x_n`), so this module holds a
+//! small allocation-free kernel.
+//!
+//! # Storage
+//! [`BandedSym`] stores the lower band column by column: entry `A[i, j]` with `j ≤ i ≤ j + p`
+//! lives at `data[j·(p+1) + (i − j)]` (LAPACK's `'L'` band layout, transposed into rows of
+//! length `p + 1`). Entries outside the band are zero by definition.
+//!
+//! # Factorization
+//! [`BandedLdlt::factor`] computes `A = L·D·Lᵀ` (unit lower-triangular `L` with the same
+//! bandwidth, diagonal `D`) of a contiguous principal sub-block `A[r, r]`, `r = lo..hi`, without
+//! pivoting, in `O(m·p²)` flops for `m = hi − lo`. By Sylvester's law of inertia the numbers of
+//! positive and negative pivots `d_j` are the numbers of positive and negative eigenvalues of the
+//! block, so [`BandedLdlt::inertia`] decides positive definiteness without an eigen-solve.
+//! Without pivoting the factorization of an indefinite matrix can meet an exactly zero (or
+//! non-finite) pivot; that is reported as [`PivotError`] with its index (the matrix, or that
+//! leading minor, is singular). Storage is sized once ([`BandedLdlt::new`]); factor, solve and
+//! the inverse iteration allocate nothing.
+//!
+//! ```
+//! use helixreach::rod::banded::{BandedSym, BandedLdlt};
+//! // The 1-D Laplacian tridiag(−1, 2, −1) (p = 1) is positive definite.
+//! let n = 6;
+//! let mut a = BandedSym::zeros(n, 1);
+//! for i in 0..n {
+//!     a.add(i, i, 2.0);
+//!     if i > 0 { a.add(i, i - 1, -1.0); }
+//! }
+//! let mut f = BandedLdlt::new(n, 1);
+//! f.factor(&a, 0..n).unwrap();
+//! assert_eq!(f.inertia(), (n, 0));
+//! let mut x = vec![1.0; n];
+//! f.solve_in_place(&mut x);
+//! // A·x = 1 has the solution x_i = (i+1)(n−i)/2.
+//! assert!((x[0] - 3.0).abs() < 1e-12 && (x[2] - 6.0).abs() < 1e-12);
+//! ```
+
+use crate::math::Real;
+use std::ops::Range;
+
+/// Half-bandwidth of the DER Hessian with 4 DOFs per node/edge: a bend/twist stencil couples
+/// `x_{i−1}, θ_{i−1}, x_i, θ_i, x_{i+1}`, 11 consecutive DOFs.
+pub const HALF_BANDWIDTH: usize = 10;
+
+/// A symmetric banded matrix (lower band stored; see the module docs for the layout).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandedSym {
+    n: usize,
+    p: usize,
+    data: Vec<Real>,
+}
+
+impl BandedSym {
+    /// The `n × n` zero matrix with half-bandwidth `p`.
+    pub fn zeros(n: usize, p: usize) -> Self {
+        BandedSym {
+            n,
+            p,
+            data: vec![0.0; n * (p + 1)],
+        }
+    }
+
+    /// Dimension.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Half-bandwidth `p`.
+    pub fn half_bandwidth(&self) -> usize {
+        self.p
+    }
+
+    /// Set every entry to zero (keeps the storage).
+    pub fn fill_zero(&mut self) {
+        self.data.iter_mut().for_each(|v| *v = 0.0);
+    }
+
+    /// `A[i, j]` (either triangle; 0 outside the band).
+    #[inline]
+    pub fn get(&self, i: usize, j: usize) -> Real {
+        let (i, j) = if i >= j { (i, j) } else { (j, i) };
+        if i - j > self.p || i >= self.n {
+            0.0
+        } else {
+            self.data[j * (self.p + 1) + (i - j)]
+        }
+    }
+
+    /// `A[i, j] += v` (and `A[j, i]`, by symmetry; call once per unordered pair).
+    ///
+    /// # Panics
+    /// If `(i, j)` lies outside the band or the matrix (an assembly bug, not bad input).
+    #[inline]
+    pub fn add(&mut self, i: usize, j: usize, v: Real) {
+        let (i, j) = if i >= j { (i, j) } else { (j, i) };
+        assert!(
+            i - j <= self.p && i < self.n,
+            "banded add ({i},{j}) outside band"
+        );
+        self.data[j * (self.p + 1) + (i - j)] += v;
+    }
+
+    /// Add the symmetric `k × k` block `h` (row-major, `h[r*k + c]`, only `r ≥ c` read) at
+    /// the diagonal offset `o`. Requires `k ≤ p + 1`.
+    #[inline]
+    pub fn add_block(&mut self, o: usize, k: usize, h: &[Real]) {
+        debug_assert!(k <= self.p + 1 && o + k <= self.n);
+        for c in 0..k {
+            let col = (o + c) * (self.p + 1);
+            for r in c..k {
+                self.data[col + (r - c)] += h[r * k + c];
+            }
+        }
+    }
+
+    /// `y = A[r, r]·x` on the principal sub-block `r` (`x`, `y` of length `r.len()`).
+    pub fn matvec(&self, r: Range<usize>, x: &[Real], y: &mut [Real]) {
+        let m = r.len();
+        let lo = r.start;
+        y[..m].iter_mut().for_each(|v| *v = 0.0);
+        for j in 0..m {
+            let col = (lo + j) * (self.p + 1);
+            y[j] += self.data[col] * x[j];
+            for k in 1..=self.p.min(m - 1 - j) {
+                let a = self.data[col + k];
+                y[j + k] += a * x[j];
+                y[j] += a * x[j + k];
+            }
+        }
+    }
+
+    /// The dense copy (tests and diagnostics only: allocates).
+    pub fn to_dense(&self) -> nalgebra::DMatrix<Real> {
+        nalgebra::DMatrix::from_fn(self.n, self.n, |i, j| self.get(i, j))
+    }
+
+    /// Largest absolute entry.
+    pub fn max_abs(&self) -> Real {
+        self.data.iter().fold(0.0, |m, v| m.max(v.abs()))
+    }
+}
+
+/// A zero or non-finite pivot met by the unpivoted LDLᵀ: the leading minor of that order is
+/// singular (or the matrix holds NaN/∞).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PivotError {
+    /// Index of the pivot within the factored block.
+    pub index: usize,
+    /// Its value.
+    pub pivot: Real,
+}
+
+impl std::fmt::Display for PivotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "LDLᵀ pivot {} is {}", self.index, self.pivot)
+    }
+}
+
+/// The LDLᵀ factors of a principal sub-block of a [`BandedSym`], with scratch for solves.
+#[derive(Debug, Clone)]
+pub struct BandedLdlt {
+    cap: usize,
+    p: usize,
+    m: usize,
+    /// Strict lower band of `L`, same layout as [`BandedSym`] (the diagonal slot is unused).
+    l: Vec<Real>,
+    d: Vec<Real>,
+    /// `L_jk·d_k` for the current column (length p).
+    w: Vec<Real>,
+    v: Vec<Real>,
+    av: Vec<Real>,
+}
+
+impl BandedLdlt {
+    /// Storage for blocks of dimension up to `cap` with half-bandwidth `p`.
+    pub fn new(cap: usize, p: usize) -> Self {
+        BandedLdlt {
+            cap,
+            p,
+            m: 0,
+            l: vec![0.0; cap * (p + 1)],
+            d: vec![0.0; cap],
+            w: vec![0.0; p + 1],
+            v: vec![0.0; cap],
+            av: vec![0.0; cap],
+        }
+    }
+
+    /// Dimension of the last factored block.
+    pub fn dim(&self) -> usize {
+        self.m
+    }
+
+    /// The pivots `D` of the last factorization.
+    pub fn pivots(&self) -> &[Real] {
+        &self.d[..self.m]
+    }
+
+    /// Factor `A[r, r] = L·D·Lᵀ`. On error the factor is unusable (inertia and solves are
+    /// meaningless) until the next successful call.
+    ///
+    /// # Panics
+    /// If `r` exceeds the matrix, the capacity or the bandwidth differs (programming errors).
+    pub fn factor(&mut self, a: &BandedSym, r: Range<usize>) -> Result<(), PivotError> {
+        let p = self.p;
+        assert!(a.p == p && r.end <= a.n && r.len() <= self.cap);
+        let m = r.len();
+        let lo = r.start;
+        self.m = m;
+        let pp = p + 1;
+        // Copy the block.
+        self.l[..m * pp].copy_from_slice(&a.data[lo * pp..(lo + m) * pp]);
+        // Entries that reach past the block's end are outside the sub-block: zero them.
+        for j in m.saturating_sub(p)..m {
+            for k in (m - j)..pp {
+                self.l[j * pp + k] = 0.0;
+            }
+        }
+        for j in 0..m {
+            let k0 = j.saturating_sub(p);
+            // w_k = L_jk·d_k for k in k0..j, and d_j.
+            let mut dj = self.l[j * pp];
+            for k in k0..j {
+                let ljk = self.l[k * pp + (j - k)];
+                let wk = ljk * self.d[k];
+                self.w[k - k0] = wk;
+                dj -= ljk * wk;
+            }
+            if dj == 0.0 || !dj.is_finite() {
+                return Err(PivotError {
+                    index: j,
+                    pivot: dj,
+                });
+            }
+            self.d[j] = dj;
+            let inv = 1.0 / dj;
+            let imax = (j + p).min(m - 1);
+            for i in (j + 1)..=imax {
+                let mut s = self.l[j * pp + (i - j)];
+                // k ranges over columns where both L_ik and L_jk are in band: k ≥ i − p.
+                for k in i.saturating_sub(p).max(k0)..j {
+                    s -= self.l[k * pp + (i - k)] * self.w[k - k0];
+                }
+                self.l[j * pp + (i - j)] = s * inv;
+            }
+        }
+        Ok(())
+    }
+
+    /// `(positive, negative)` pivot counts = the inertia of the factored block.
+    pub fn inertia(&self) -> (usize, usize) {
+        let neg = self.d[..self.m].iter().filter(|&&d| d < 0.0).count();
+        (self.m - neg, neg)
+    }
+
+    /// Solve `A[r, r]·x = b` in place (`b` of length `m`).
+    pub fn solve_in_place(&self, b: &mut [Real]) {
+        let (m, p, pp) = (self.m, self.p, self.p + 1);
+        // L y = b.
+        for j in 0..m {
+            let bj = b[j];
+            for k in 1..=p.min(m - 1 - j) {
+                b[j + k] -= self.l[j * pp + k] * bj;
+            }
+        }
+        for j in 0..m {
+            b[j] /= self.d[j];
+        }
+        // Lᵀ x = z.
+        for j in (0..m).rev() {
+            let mut s = b[j];
+            for k in 1..=p.min(m - 1 - j) {
+                s -= self.l[j * pp + k] * b[j + k];
+            }
+            b[j] = s;
+        }
+    }
+
+    /// The eigenvalue of `A[r, r]` of smallest magnitude, estimated by `iters` steps of inverse
+    /// iteration (with the factors of the same block) and a Rayleigh quotient. Near a
+    /// singular matrix it converges in a few steps (the ratio |λ₁/λ₂| is small). `a` must be
+    /// the matrix that was factored. Deterministic start vector.
+    pub fn smallest_eigenvalue(&mut self, a: &BandedSym, r: Range<usize>, iters: usize) -> Real {
+        let m = self.m;
+        debug_assert_eq!(r.len(), m);
+        let mut v = std::mem::take(&mut self.v);
+        let mut av = std::mem::take(&mut self.av);
+        for (i, x) in v[..m].iter_mut().enumerate() {
+            // A smooth, non-symmetric start: overlaps every low mode.
+            *x = 1.0 + 0.37 * ((i as Real) * 0.618).sin();
+        }
+        let mut lam = 0.0;
+        for _ in 0..iters.max(1) {
+            let nrm = v[..m].iter().map(|x| x * x).sum::<Real>().sqrt();
+            v[..m].iter_mut().for_each(|x| *x /= nrm);
+            a.matvec(r.clone(), &v, &mut av);
+            lam = v[..m].iter().zip(&av[..m]).map(|(x, y)| x * y).sum();
+            self.solve_in_place(&mut v[..m]);
+        }
+        self.v = v;
+        self.av = av;
+        lam
+    }
+}

@@ -1,0 +1,180 @@
+//! Static equilibrium by Newton's method on the free DOFs, and the stability test.
+//!
+//! Equilibrium: `∂E/∂q_f = 0` on the free DOFs `f` (a contiguous range, e.g.
+//! [`Rod::free_range_clamped`]). Each iteration re-bases the reference frames at the iterate
+//! ([`RodState::update_reference`]), assembles the gradient and the banded Hessian
+//! ([`energy::energy_gradient_hessian`]), factors the free block `H_ff = L D Lᵀ`
+//! ([`BandedLdlt`]) and steps `Δ = −H_ff⁻¹ g_f`, backtracking (halving) while the residual
+//! `‖g_f‖∞` does not decrease. Newton seeks stationary points, not minima, so it converges to
+//! unstable equilibria too (which is what a stability test along a branch needs).
+//!
+//! Convergence: the Newton step satisfies `‖Δ‖∞ ≤ step_tol`, or the residual is at the
+//! round-off floor `‖g_f‖∞ ≤ rel_residual_tol·(k_b + ‖g‖∞)` (near a critical point the Hessian
+//! is nearly singular and the step along the critical mode is dominated by round-off, so the
+//! residual criterion is the one that ends the iteration there).
+//!
+//! Stability: the equilibrium is stable iff `H_ff` is positive definite, i.e. the LDLᵀ inertia
+//! has no negative pivot. The factorization used is the one at the converged iterate (the
+//! last Hessian is assembled at the returned state).
+
+use super::banded::PivotError;
+use super::energy;
+use super::params::Rod;
+use super::state::RodState;
+use super::workspace::Workspace;
+use crate::error::{Error, Result};
+use crate::math::Real;
+use std::ops::Range;
+
+/// Newton controls.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonParams {
+    /// Maximum Newton iterations.
+    pub max_iters: usize,
+    /// Convergence on the step, `‖Δ‖∞` (length units for positions, radians for twists).
+    pub step_tol: Real,
+    /// Convergence on the residual relative to `k_b + ‖g‖∞` (dimensionless).
+    pub rel_residual_tol: Real,
+    /// Maximum halvings of a step in the line search.
+    pub max_halvings: usize,
+}
+
+impl Default for NewtonParams {
+    /// `max_iters = 30`, `step_tol = 1e-11`, `rel_residual_tol = 1e-10`, `max_halvings = 12`.
+    fn default() -> Self {
+        NewtonParams {
+            max_iters: 30,
+            step_tol: 1e-11,
+            rel_residual_tol: 1e-10,
+            max_halvings: 12,
+        }
+    }
+}
+
+/// Outcome of a converged Newton solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Equilibrium {
+    /// Iterations used.
+    pub iterations: usize,
+    /// Final residual `‖g_f‖∞`.
+    pub residual: Real,
+    /// Elastic energy at the equilibrium.
+    pub energy: Real,
+    /// Negative eigenvalues of the free Hessian (LDLᵀ inertia); 0 ⇔ stable.
+    pub negative: usize,
+}
+
+impl Equilibrium {
+    /// Stable ⇔ the free Hessian is positive definite.
+    pub fn is_stable(&self) -> bool {
+        self.negative == 0
+    }
+}
+
+fn inf_norm(v: &[Real]) -> Real {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
+fn singular(e: PivotError, iterations: usize) -> Error {
+    Error::NotConverged {
+        what: format!("DER Newton ({e}: singular free Hessian)"),
+        iterations,
+        residual: Real::NAN,
+    }
+}
+
+/// Solve for the equilibrium on the free DOFs `free`, starting from `state` (whose reference
+/// frames must be up to date). On success `state` holds the equilibrium and `ws.ldlt` the
+/// LDLᵀ of its free Hessian, `ws.hess` the full Hessian and `ws.grad` the gradient (fixed-DOF
+/// entries are the reaction forces).
+pub fn solve(
+    rod: &Rod,
+    state: &mut RodState,
+    free: Range<usize>,
+    ws: &mut Workspace,
+    params: &NewtonParams,
+) -> Result<Equilibrium> {
+    assert!(ws.fits(rod) && free.end <= rod.n_dofs());
+    let m = free.len();
+    let mut trial = ws.trial.take().unwrap_or_else(|| state.clone());
+    let result = (|| {
+        let mut last_res = Real::INFINITY;
+        for it in 0..params.max_iters {
+            let e = energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+            let res = inf_norm(&ws.grad[free.clone()]);
+            let scale = rod.material.bend + inf_norm(&ws.grad);
+            ws.ldlt
+                .factor(&ws.hess, free.clone())
+                .map_err(|er| singular(er, it))?;
+            let done = |negative| Equilibrium {
+                iterations: it,
+                residual: res,
+                energy: e,
+                negative,
+            };
+            if res <= params.rel_residual_tol * scale {
+                return Ok(done(ws.ldlt.inertia().1));
+            }
+            for (k, s) in ws.step[..m].iter_mut().enumerate() {
+                *s = -ws.grad[free.start + k];
+            }
+            ws.ldlt.solve_in_place(&mut ws.step[..m]);
+            let step = inf_norm(&ws.step[..m]);
+            if step <= params.step_tol {
+                return Ok(done(ws.ldlt.inertia().1));
+            }
+            // Round-off floor: the residual stopped decreasing although the step is not tiny
+            // (near-singular Hessian): accept if it is already small.
+            if it >= 3 && res >= 0.5 * last_res && res <= 1e3 * params.rel_residual_tol * scale {
+                return Ok(done(ws.ldlt.inertia().1));
+            }
+            last_res = res;
+            // Backtracking on the residual.
+            let mut alpha = 1.0;
+            let mut accepted = false;
+            for _ in 0..=params.max_halvings {
+                trial.copy_from(state);
+                for k in 0..m {
+                    trial.q[free.start + k] += alpha * ws.step[k];
+                }
+                if trial.update_reference() {
+                    energy::gradient(rod, &trial, &mut ws.grad);
+                    let r = inf_norm(&ws.grad[free.clone()]);
+                    if r.is_finite() && (r < res || alpha < 1.0 / 1024.0) {
+                        accepted = true;
+                        break;
+                    }
+                }
+                alpha *= 0.5;
+            }
+            if !accepted {
+                return Err(Error::NotConverged {
+                    what: "DER Newton line search".into(),
+                    iterations: it,
+                    residual: res,
+                });
+            }
+            state.copy_from(&trial);
+        }
+        Err(Error::NotConverged {
+            what: "DER Newton equilibrium".into(),
+            iterations: params.max_iters,
+            residual: last_res,
+        })
+    })();
+    ws.trial = Some(trial);
+    result
+}
+
+/// Inertia of the free Hessian at `state` (assembles and factors; no Newton).
+/// Returns the number of negative eigenvalues.
+pub fn negative_eigenvalues(
+    rod: &Rod,
+    state: &RodState,
+    free: Range<usize>,
+    ws: &mut Workspace,
+) -> Result<usize> {
+    energy::hessian(rod, state, &mut ws.hess);
+    ws.ldlt.factor(&ws.hess, free).map_err(|e| singular(e, 0))?;
+    Ok(ws.ldlt.inertia().1)
+}

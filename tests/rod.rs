@@ -1,0 +1,525 @@
+//! Discrete Elastic Rods: energies against finite differences, the banded LDLᵀ against a
+//! dense reference (nalgebra), statics and the DER-statics boundary against analytic limits.
+
+use helixreach::boundary::der::{critical_s, DerBoundaryParams, DerRay};
+use helixreach::directions::Direction;
+use helixreach::math::{Real, Vec3};
+use helixreach::rod::banded::{BandedLdlt, BandedSym, HALF_BANDWIDTH};
+use helixreach::rod::clamp::ClampPlacement;
+use helixreach::rod::energy::{self, bend, twist};
+use helixreach::rod::{Material, Rod, RodState};
+use nalgebra::DMatrix;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn rvec(rng: &mut ChaCha8Rng, a: Real) -> Vec3 {
+    Vec3::new(
+        rng.random_range(-a..a),
+        rng.random_range(-a..a),
+        rng.random_range(-a..a),
+    )
+}
+
+/// A random, non-equilibrium rod state with non-zero reference twists: a wiggly curve with
+/// random twists, whose frames are then time-parallel transported through a random motion.
+fn random_state(n: usize, seed: u64) -> RodState {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let h = 1.0 / n as Real;
+    let mut nodes = vec![Vec3::zeros()];
+    let mut dir = Vec3::z();
+    for _ in 0..n {
+        dir = (dir + rvec(&mut rng, 0.6)).normalize();
+        let l = h * rng.random_range(0.8..1.2);
+        let last = *nodes.last().unwrap();
+        nodes.push(last + l * dir);
+    }
+    let theta: Vec<Real> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let mut st = RodState::from_nodes(&nodes, &theta, &Vec3::x()).unwrap();
+    for i in 0..=n {
+        let x = st.node(i) + 0.3 * h * rvec(&mut rng, 1.0);
+        st.set_node(i, &x);
+    }
+    assert!(st.update_reference());
+    st
+}
+
+/// Energy at `q` with the reference frames transported from `base` (the function whose
+/// derivatives the analytic gradient/Hessian are).
+fn energy_at(rod: &Rod, base: &RodState, q: &[Real]) -> Real {
+    let mut s = base.clone();
+    s.q.copy_from_slice(q);
+    assert!(s.update_reference());
+    energy::energy(rod, &s)
+}
+
+fn materials() -> Vec<(&'static str, Material)> {
+    let tiny = 1e-12;
+    let m = |bend, twist, stretch| Material {
+        bend,
+        twist,
+        stretch,
+    };
+    vec![
+        ("stretch", m(tiny, tiny, 3.0)),
+        ("bend", m(1.0, tiny, tiny)),
+        ("twist", m(tiny, 0.8, tiny)),
+        ("all", m(1.0, 0.75, 50.0)),
+    ]
+}
+
+#[test]
+fn gradient_matches_finite_differences_with_step_study() {
+    for seed in 0..3 {
+        let n = 6;
+        let st = random_state(n, seed);
+        assert!(
+            (1..n).any(|i| st.reference_twist(i).abs() > 1e-3),
+            "want non-zero reference twist"
+        );
+        for (name, mat) in materials() {
+            let rod = Rod::uniform(n, 1.0 / n as Real, mat).unwrap();
+            let mut g = vec![0.0; rod.n_dofs()];
+            energy::gradient(&rod, &st, &mut g);
+            let gmax = g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let mut errs = Vec::new();
+            for &step in &[1e-3, 1e-4, 1e-5] {
+                let mut q = st.q.clone();
+                let mut err: Real = 0.0;
+                for k in 0..rod.n_dofs() {
+                    let q0 = q[k];
+                    q[k] = q0 + step;
+                    let ep = energy_at(&rod, &st, &q);
+                    q[k] = q0 - step;
+                    let em = energy_at(&rod, &st, &q);
+                    q[k] = q0;
+                    err = err.max(((ep - em) / (2.0 * step) - g[k]).abs());
+                }
+                errs.push(err / gmax);
+            }
+            // Central differences: error ∝ step² until round-off.
+            assert!(errs[1] < 1e-6, "{name} seed {seed}: {errs:?}");
+            assert!(
+                errs[1] < 0.05 * errs[0] || errs[0] < 1e-9,
+                "{name} seed {seed}: not O(h²): {errs:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn hessian_matches_finite_differences_of_the_energy() {
+    for seed in 0..2 {
+        let n = 5;
+        let st = random_state(n, 10 + seed);
+        for (name, mat) in materials() {
+            let rod = Rod::uniform(n, 1.0 / n as Real, mat).unwrap();
+            let mut h = BandedSym::zeros(rod.n_dofs(), HALF_BANDWIDTH);
+            energy::hessian(&rod, &st, &mut h);
+            let hd = h.to_dense();
+            let hmax = hd.amax();
+            let nd = rod.n_dofs();
+            // Mixed central second differences D(h) = H + O(h²); the step study checks the
+            // O(h²) decay and Richardson's (4·D(h/2) − D(h))/3 = H + O(h⁴) must agree to 1e-6.
+            let mut q = st.q.clone();
+            let mut d2 = |k: usize, l: usize, step: Real| {
+                let mut e = [0.0; 4];
+                for (c, (sk, sl)) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
+                    .iter()
+                    .enumerate()
+                {
+                    let (qk, ql) = (q[k], q[l]);
+                    q[k] += sk * step;
+                    q[l] += sl * step;
+                    e[c] = energy_at(&rod, &st, &q);
+                    q[k] = qk;
+                    q[l] = ql;
+                }
+                (e[0] - e[1] - e[2] + e[3]) / (4.0 * step * step)
+            };
+            let (mut e1, mut e2, mut er): (Real, Real, Real) = (0.0, 0.0, 0.0);
+            for k in 0..nd {
+                for l in 0..=k {
+                    let a = d2(k, l, 2e-3);
+                    let b = d2(k, l, 1e-3);
+                    let rich = (4.0 * b - a) / 3.0;
+                    for (err, fd) in [(&mut e1, a), (&mut e2, b), (&mut er, rich)] {
+                        *err = err
+                            .max((fd - hd[(k, l)]).abs())
+                            .max((fd - hd[(l, k)]).abs());
+                    }
+                }
+            }
+            let errs = [e1 / hmax, e2 / hmax, er / hmax];
+            assert!(errs[2] < 1e-6, "{name} seed {seed}: {errs:?}");
+            assert!(
+                errs[1] < 0.3 * errs[0] || errs[0] < 1e-8,
+                "{name}: not O(h²): {errs:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn local_hessian_blocks_are_symmetric() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    for _ in 0..50 {
+        let em = rvec(&mut rng, 1.0) + Vec3::new(0.0, 0.0, 1.2);
+        let ep = rvec(&mut rng, 1.0) + Vec3::new(0.0, 0.0, 1.2);
+        for d in [
+            bend::node(&em, &ep, 0.7),
+            twist::reference_twist_derivatives(&em, &ep),
+        ] {
+            let s = d.h_mm.norm().max(d.h_pp.norm()).max(1.0);
+            assert!((d.h_mm - d.h_mm.transpose()).norm() < 1e-13 * s);
+            assert!((d.h_pp - d.h_pp.transpose()).norm() < 1e-13 * s);
+        }
+    }
+    // And the assembled matrix, read from both triangles, equals its transpose.
+    let st = random_state(8, 3);
+    let mat = Material {
+        bend: 1.0,
+        twist: 0.7,
+        stretch: 10.0,
+    };
+    let rod = Rod::uniform(8, 0.125, mat).unwrap();
+    let mut h = BandedSym::zeros(rod.n_dofs(), HALF_BANDWIDTH);
+    energy::hessian(&rod, &st, &mut h);
+    let d = h.to_dense();
+    assert_eq!(d, d.transpose());
+}
+
+fn random_banded(n: usize, p: usize, shift: Real, rng: &mut ChaCha8Rng) -> BandedSym {
+    let mut a = BandedSym::zeros(n, p);
+    for j in 0..n {
+        for i in j..(j + p + 1).min(n) {
+            let v: Real = rng.random_range(-1.0..1.0);
+            a.add(i, j, if i == j { v + shift } else { v });
+        }
+    }
+    a
+}
+
+#[test]
+fn banded_ldlt_matches_dense_solution_and_inertia() {
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    let mut indefinite = 0;
+    for trial in 0..30 {
+        let n = 20 + trial;
+        let p = [1, 3, HALF_BANDWIDTH][trial % 3];
+        // SPD: strongly diagonally dominant; indefinite: a moderate shift.
+        let shift = if trial % 2 == 0 {
+            2.0 * p as Real + 2.0
+        } else {
+            0.8
+        };
+        let a = random_banded(n, p, shift, &mut rng);
+        let lo = trial % 4;
+        let r = lo..n - (trial % 3);
+        let m = r.len();
+        let dense = a.to_dense().view((lo, lo), (m, m)).into_owned();
+        let eig = nalgebra::SymmetricEigen::new(dense.clone()).eigenvalues;
+        let neg = eig.iter().filter(|&&v| v < 0.0).count();
+        let gap = eig.iter().fold(Real::INFINITY, |m, v| m.min(v.abs()));
+        if gap < 1e-6 {
+            continue; // too close to singular to be a fair inertia test
+        }
+        if neg > 0 {
+            indefinite += 1;
+        }
+        let mut f = BandedLdlt::new(n, p);
+        f.factor(&a, r.clone()).unwrap();
+        assert_eq!(f.inertia(), (m - neg, neg), "trial {trial}");
+        if trial % 2 == 0 {
+            assert_eq!(neg, 0);
+        }
+        let b: Vec<Real> = (0..m).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let mut x = b.clone();
+        f.solve_in_place(&mut x);
+        let xd = dense
+            .clone()
+            .lu()
+            .solve(&nalgebra::DVector::from_vec(b.clone()))
+            .unwrap();
+        let cond = eig.amax() / gap;
+        let err = (nalgebra::DVector::from_vec(x.clone()) - &xd).amax() / xd.amax();
+        assert!(
+            err < 1e-13 * cond * m as Real,
+            "trial {trial}: {err} (cond {cond})"
+        );
+        // Smallest-magnitude eigenvalue by inverse iteration vs the dense one.
+        let lam_min = eig.iter().fold(
+            Real::INFINITY,
+            |m: Real, v| {
+                if v.abs() < m.abs() {
+                    *v
+                } else {
+                    m
+                }
+            },
+        );
+        let mu = f.smallest_eigenvalue(&a, r.clone(), 300);
+        assert!(
+            (mu - lam_min).abs() < 1e-2 * lam_min.abs(),
+            "trial {trial}: {mu} vs {lam_min}"
+        );
+        // Near-singular (the case the boundary search needs): shift so that the smallest
+        // magnitude eigenvalue is 1e-4, well separated; a few iterations suffice.
+        let mut b2 = a.clone();
+        for i in r.clone() {
+            b2.add(i, i, -lam_min + 1e-4);
+        }
+        f.factor(&b2, r.clone()).unwrap();
+        let mu = f.smallest_eigenvalue(&b2, r, 6);
+        assert!((mu - 1e-4).abs() < 1e-9, "trial {trial}: shifted {mu}");
+    }
+    assert!(indefinite >= 5, "only {indefinite} indefinite cases");
+}
+
+#[test]
+fn banded_ldlt_reports_a_zero_pivot() {
+    let mut a = BandedSym::zeros(3, 1);
+    a.add(0, 0, 1.0);
+    a.add(1, 0, 1.0);
+    a.add(1, 1, 1.0); // leading 2×2 minor singular
+    a.add(2, 2, 1.0);
+    let mut f = BandedLdlt::new(3, 1);
+    let e = f.factor(&a, 0..3).unwrap_err();
+    assert_eq!(e.index, 1);
+}
+
+/// The equilibrium's distance from the sampled helix shrinks like O(1/n²) (the continuum
+/// equilibrium is the helix).
+#[test]
+fn equilibrium_converges_to_the_sampled_helix() {
+    let dir = Direction::new(1.0, 1.0, 1.0).unwrap();
+    let mut dev = Vec::new();
+    for &n in &[20usize, 40, 80] {
+        let p = DerBoundaryParams {
+            n_edges: n,
+            ..Default::default()
+        };
+        let mut ray = DerRay::new(&dir, &p).unwrap();
+        let s = 5.0;
+        let start = ray.initial_state(s).unwrap();
+        let pt = ray.evaluate(s).unwrap();
+        assert_eq!(pt.negative, 0, "s = 5 along [1,1,1] is stable");
+        let eq = ray.state().unwrap();
+        let d = (0..=n)
+            .map(|i| (eq.node(i) - start.node(i)).norm())
+            .fold(0.0, Real::max);
+        dev.push(d);
+    }
+    assert!(dev[0] < 1e-2, "{dev:?}");
+    let o1 = (dev[0] / dev[1]).log2();
+    let o2 = (dev[1] / dev[2]).log2();
+    assert!(
+        o1 > 1.7 && o2 > 1.7,
+        "order of helix deviation {o1}, {o2} ({dev:?})"
+    );
+}
+
+/// 2·x₁ with tan x₁ = x₁: the critical twisting moment of a clamped–clamped straight rod
+/// (Greenhill's problem with clamped ends and fixed end positions: the buckling condition is
+/// tan(ω/2) = ω/2; see Borum & Bretl 2020 and the issue text).
+fn omega_axis_critical() -> Real {
+    let mut x: Real = 4.4934;
+    for _ in 0..50 {
+        x -= (x.tan() - x) / (1.0 / x.cos().powi(2) - 1.0);
+    }
+    2.0 * x
+}
+
+/// On the κ axis the discrete rod loses stability exactly when the arc closes into a circle
+/// (both clamped edges coincide), s* = 2π, at any n.
+#[test]
+fn der_boundary_on_the_kappa_axis_is_two_pi() {
+    for n in [8usize, 30] {
+        let p = DerBoundaryParams {
+            n_edges: n,
+            tol_rel: 1e-9,
+            ..Default::default()
+        };
+        let r = critical_s(&Direction::new(1.0, 0.0, 0.0).unwrap(), &p).unwrap();
+        assert!(
+            (r.s_star / std::f64::consts::TAU - 1.0).abs() < 1e-6,
+            "n {n}: {}",
+            r.s_star
+        );
+    }
+}
+
+#[test]
+fn der_boundary_converges_on_the_omega_axis() {
+    let cases = [(
+        Direction::new(0.0, 0.0, 1.0).unwrap(),
+        omega_axis_critical(),
+    )];
+    for (dir, exact) in cases {
+        let mut errs = Vec::new();
+        for &n in &[25usize, 50] {
+            let p = DerBoundaryParams {
+                n_edges: n,
+                tol_rel: 1e-9,
+                ..Default::default()
+            };
+            let r = critical_s(&dir, &p).unwrap();
+            errs.push((r.s_star - exact).abs() / exact);
+        }
+        let order = (errs[0] / errs[1]).log2();
+        assert!(errs[1] < 4e-3, "{dir:?}: {errs:?}");
+        assert!(order > 1.7, "{dir:?}: order {order} ({errs:?})");
+    }
+}
+
+/// The seed paper's placement (clamped edges inside the rod) converges at first order: the
+/// error against a fine straddling solution halves when n doubles.
+#[test]
+fn inside_clamp_is_first_order() {
+    let dir = Direction::new(0.6, 0.7, 0.4).unwrap();
+    let fine = DerBoundaryParams {
+        n_edges: 80,
+        tol_rel: 1e-9,
+        ..Default::default()
+    };
+    let reference = critical_s(&dir, &fine).unwrap().s_star;
+    let mut errs = Vec::new();
+    for &n in &[15usize, 30] {
+        let p = DerBoundaryParams {
+            n_edges: n,
+            tol_rel: 1e-9,
+            clamp: ClampPlacement::Inside,
+            ..Default::default()
+        };
+        errs.push((critical_s(&dir, &p).unwrap().s_star / reference - 1.0).abs());
+    }
+    let order = (errs[0] / errs[1]).log2();
+    assert!((0.7..1.4).contains(&order), "order {order} ({errs:?})");
+}
+
+/// Mirror symmetry holds exactly (to the root-finding tolerance) at any n; independence from
+/// c holds in the limit: the spread over ν ∈ {−0.25, 0.33, 0.5} shrinks like O(1/n²) and is
+/// below the discretization error itself.
+#[test]
+fn mirror_symmetry_and_c_independence() {
+    for d in [[0.6, 0.7, 0.4], [0.3, -0.5, 0.8], [0.8, 0.2, -0.5]] {
+        let dir = Direction::new(d[0], d[1], d[2]).unwrap();
+        let mir = Direction::new(d[0], -d[1], -d[2]).unwrap();
+        let mut spread = Vec::new();
+        for n in [20usize, 40] {
+            let p = DerBoundaryParams {
+                n_edges: n,
+                tol_rel: 1e-9,
+                ..Default::default()
+            };
+            let a = critical_s(&dir, &p).unwrap().s_star;
+            let b = critical_s(&mir, &p).unwrap().s_star;
+            assert!((a - b).abs() < 1e-7 * a, "mirror {d:?}: {a} vs {b}");
+            let mut worst: Real = 0.0;
+            for nu in [-0.25, 0.5] {
+                let c = critical_s(&dir, &DerBoundaryParams { nu, ..p })
+                    .unwrap()
+                    .s_star;
+                worst = worst.max((c - a).abs() / a);
+            }
+            spread.push(worst);
+        }
+        assert!(spread[1] < 1e-3, "{d:?}: {spread:?}");
+        assert!(
+            spread[1] < 0.35 * spread[0] || spread[1] < 1e-7,
+            "c-spread not shrinking {d:?}: {spread:?}"
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    let dir = Direction::new(1.0, 1.0, 0.0).unwrap();
+    let ok = DerBoundaryParams {
+        n_edges: 8,
+        ..Default::default()
+    };
+    for p in [
+        DerBoundaryParams { n_edges: 3, ..ok },
+        DerBoundaryParams { tol_rel: 0.0, ..ok },
+        DerBoundaryParams {
+            tol_rel: -1e-3,
+            ..ok
+        },
+        DerBoundaryParams {
+            tol_rel: Real::NAN,
+            ..ok
+        },
+        DerBoundaryParams {
+            nu: Real::NAN,
+            ..ok
+        },
+        DerBoundaryParams { nu: -1.0, ..ok },
+        DerBoundaryParams {
+            s_max: Real::NAN,
+            ..ok
+        },
+        DerBoundaryParams { stretch: 0.0, ..ok },
+    ] {
+        let e = critical_s(&dir, &p).unwrap_err().to_string();
+        assert!(e.contains("invalid"), "{e}");
+    }
+    let nan = Direction {
+        kappa: Real::NAN,
+        tau: 0.0,
+        omega: 1.0,
+    };
+    assert!(critical_s(&nan, &ok).is_err());
+    let zero = Direction {
+        kappa: 0.0,
+        tau: 0.0,
+        omega: 0.0,
+    };
+    assert!(critical_s(&zero, &ok).is_err());
+    let neg = Direction {
+        kappa: -0.5,
+        tau: 0.1,
+        omega: 0.0,
+    };
+    assert!(critical_s(&neg, &ok).is_err());
+}
+
+#[test]
+fn pure_tau_axis_is_stable_everywhere() {
+    let p = DerBoundaryParams {
+        n_edges: 10,
+        ..Default::default()
+    };
+    let r = critical_s(&Direction::new(0.0, 1.0, 0.0).unwrap(), &p).unwrap();
+    assert!(r.s_star.is_infinite());
+}
+
+/// The banded inertia of the rod's free Hessian equals the dense eigenvalue count, on both
+/// sides of s*.
+#[test]
+fn rod_hessian_inertia_matches_dense_eigenvalues() {
+    let dir = Direction::new(0.6, 0.7, 0.4).unwrap();
+    let p = DerBoundaryParams {
+        n_edges: 16,
+        ..Default::default()
+    };
+    let mut ray = DerRay::new(&dir, &p).unwrap();
+    let free = ray.rod().free_range_clamped();
+    let mut saw_unstable = false;
+    for s in [3.0, 8.0, 10.0] {
+        let pt = ray.evaluate(s).unwrap();
+        let st = ray.state().unwrap().clone();
+        let rod = ray.rod().clone();
+        let mut h = BandedSym::zeros(rod.n_dofs(), HALF_BANDWIDTH);
+        energy::hessian(&rod, &st, &mut h);
+        let m = free.len();
+        let dense: DMatrix<Real> = h
+            .to_dense()
+            .view((free.start, free.start), (m, m))
+            .into_owned();
+        let eig = nalgebra::SymmetricEigen::new(dense).eigenvalues;
+        let neg = eig.iter().filter(|&&v| v < 0.0).count();
+        assert_eq!(pt.negative, neg, "s = {s}: {eig}");
+        saw_unstable |= neg > 0;
+    }
+    assert!(saw_unstable);
+}
