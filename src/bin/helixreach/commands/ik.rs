@@ -1,10 +1,72 @@
-//! `helixreach ik` (not implemented yet).
+//! `helixreach ik`: every IK solution found for a tool pose, as CSV on stdout: one row per
+//! solution with the joint values (rad), the position error (m) and the rotation error (rad; the
+//! tool-axis angle with `--free-roll`), both measured by FK.
+
+use super::fk::parse_list;
+use helixreach::robot::{pose_from_xyz_wxyz, IkParams, IkSolver, IkTarget, RobotModel};
+use std::io::Write;
 
 /// Arguments of `helixreach ik`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// URDF file, or a built-in robot: sawyer, panda, iiwa14.
+    #[arg(long)]
+    pub robot: String,
+    /// Tool link (default: the robot's tool link).
+    #[arg(long)]
+    pub tip: Option<String>,
+    /// Tool pose in the root frame: x,y,z,qw,qx,qy,qz (m; unit quaternion).
+    #[arg(long, allow_hyphen_values = true)]
+    pub pose: String,
+    /// Leave the roll about the tool z axis free (only position + tool axis are imposed).
+    #[arg(long)]
+    pub free_roll: bool,
+    /// Number of values of the redundancy joint (evenly spaced over its range).
+    #[arg(long, default_value_t = 8)]
+    pub samples: usize,
+    /// The joint locked as the redundancy parameter (0-based).
+    #[arg(long, default_value_t = 0)]
+    pub redundancy_joint: usize,
+    /// Random restarts per redundancy value.
+    #[arg(long, default_value_t = 50)]
+    pub restarts: usize,
+    /// Seed of the random restarts.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
 
 /// Run `helixreach ik`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach ik` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let model = RobotModel::load(&args.robot, args.tip.as_deref())?;
+    let pose = pose_from_xyz_wxyz(&parse_list("--pose", &args.pose)?)?;
+    let mut target = IkTarget::pose(pose)?;
+    if args.free_roll {
+        target = target.free_roll();
+    }
+    let params = IkParams {
+        samples: args.samples,
+        redundancy_joint: Some(args.redundancy_joint),
+        restarts: args.restarts,
+        rng_seed: args.seed,
+        ..IkParams::default()
+    };
+    let solver = IkSolver::new(&model, params)?;
+    let sols = solver.solve_all(&target, &[]);
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
+    writeln!(out, "{},position_error,rotation_error", names.join(","))?;
+    for s in &sols {
+        let q: Vec<String> = s.joints().iter().map(|v| v.to_string()).collect();
+        writeln!(
+            out,
+            "{},{:e},{:e}",
+            q.join(","),
+            s.position_error,
+            s.rotation_error
+        )?;
+    }
+    out.flush()?;
+    eprintln!("{} solutions", sols.len());
+    Ok(())
 }

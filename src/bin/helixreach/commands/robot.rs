@@ -1,10 +1,84 @@
-//! `helixreach robot` (not implemented yet).
+//! `helixreach robot`: print a robot's chain, joint limits and collision bodies.
+
+use helixreach::robot::{RobotModel, Shape};
 
 /// Arguments of `helixreach robot`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// URDF file, or a built-in robot: sawyer, panda, iiwa14.
+    #[arg(long)]
+    pub robot: String,
+    /// Tool link (default: the robot's tool link).
+    #[arg(long)]
+    pub tip: Option<String>,
+}
+
+fn shape_text(s: &Shape) -> String {
+    match *s {
+        Shape::Sphere { radius } => format!("sphere r={radius}"),
+        Shape::Box { half_extents: h } => {
+            format!("box {}x{}x{}", 2.0 * h.x, 2.0 * h.y, 2.0 * h.z)
+        }
+        Shape::Cylinder {
+            radius,
+            half_length,
+        } => format!("cylinder r={radius} length={}", 2.0 * half_length),
+        Shape::Capsule {
+            radius,
+            half_length,
+        } => format!("capsule r={radius} length={}", 2.0 * half_length),
+    }
+}
 
 /// Run `helixreach robot`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach robot` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let m = RobotModel::load(&args.robot, args.tip.as_deref())?;
+    println!("robot {} ({})", m.name(), m.source());
+    println!(
+        "chain {} -> {} ({} joints)",
+        m.root_link(),
+        m.tip_link(),
+        m.dof()
+    );
+    println!("joints (rad, rad/s):");
+    for (i, j) in m.joints().iter().enumerate() {
+        println!(
+            "  {i} {:<12} {} -> {}  axis [{}, {}, {}]  limits [{}, {}]  velocity {}",
+            j.name,
+            j.parent_link,
+            j.child_link,
+            j.axis.x,
+            j.axis.y,
+            j.axis.z,
+            j.lower,
+            j.upper,
+            j.velocity
+        );
+    }
+    for (n, v) in m.frozen_joints() {
+        println!("  frozen off-chain joint {n} = {v}");
+    }
+    let home = m.tool_pose(&vec![0.0; m.dof()])?;
+    println!(
+        "tool at q = 0: position [{:.6}, {:.6}, {:.6}]",
+        home.pos.x, home.pos.y, home.pos.z
+    );
+    println!("collision bodies (link frame):");
+    for l in m.links() {
+        for c in &l.collision {
+            let p = c.origin.pos;
+            println!(
+                "  {:<20} {:<36} at [{:.4}, {:.4}, {:.4}]",
+                l.name,
+                shape_text(&c.shape),
+                p.x,
+                p.y,
+                p.z
+            );
+        }
+    }
+    for s in m.ignored_geometry() {
+        println!("  ignored (not a primitive): {s}");
+    }
+    Ok(())
 }

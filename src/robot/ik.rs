@@ -1,0 +1,516 @@
+//! Inverse kinematics: every solution found for a tool pose (or a tool position + axis with the
+//! roll about the axis free), inside the joint limits, polished to `tol::IK_POSITION` /
+//! `tol::IK_ANGLE`.
+//!
+//! # Method: box-constrained Levenberg–Marquardt
+//! With the pose error `e(q) = [p* − p(q); log(R*·R(q)ᵀ)]` (root frame, m and rad) and the
+//! geometric Jacobian `J` ([`crate::robot::kinematics`]), one iteration solves
+//!
+//! `(J_A J_Aᵀ + λ I₆) y = e,  Δq = J_Aᵀ y`
+//!
+//! (damped least squares, i.e. the minimum-norm LM step of the redundant arm), where `J_A` is `J`
+//! with the columns of the *inactive* joints zeroed: a locked joint (the redundancy parameter),
+//! and every joint that sits on a limit while the step would push it outward (active set,
+//! recomputed until the step is feasible). The new point is projected onto the box of joint
+//! limits, so the limits hold at every iterate — no clamping afterwards. The step is accepted
+//! only if it lowers `‖e‖`; then `λ` shrinks (toward Gauss–Newton, quadratic convergence to
+//! `1e-10`), otherwise `λ` grows and the step is retried (adaptive damping: robust at
+//! singularities, where `J Jᵀ` loses rank and `λ I` keeps the system definite).
+//!
+//! With the roll free ([`IkTarget::Axis`]), the orientation residual is the rotation vector
+//! `φ` that turns the current tool axis `z` onto `z*`, and the angular rows of `J` are projected
+//! onto the plane ⊥ `z` (`(I − z zᵀ) J_ω`), since a rotation about `z` does not move `z`.
+//!
+//! # Redundancy and all solutions
+//! The 7-DOF arm has a continuum of solutions per pose. The redundancy parameter is one locked
+//! joint ([`IkParams::redundancy_joint`], the Sawyer seed used `j0`) sampled at
+//! [`IkParams::samples`] evenly spaced values across its range; for each value the solver runs
+//! from the caller's seeds and then from [`IkParams::restarts`] random seeds (a ChaCha8 stream
+//! fixed by [`IkParams::rng_seed`]: deterministic), and keeps the distinct converged solutions
+//! (max-norm distance > [`IkParams::dedup_tolerance`]).
+//! [`IkSolver::track`] is the planner's fast path: one LM run from the previous waypoint's
+//! solution, which converges to the nearby solution (minimum-norm steps).
+//!
+//! Iterations use fixed-size nalgebra matrices on the stack: no allocation per iteration.
+
+use super::kinematics::{Frame, Jacobian, MAX_DOF};
+use super::model::RobotModel;
+use crate::error::{Error, Result};
+use crate::math::{rotation_angle, tol, Mat3, Real, Vec3};
+use nalgebra::{Matrix6, Vector6};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// What the tool must reach.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IkTarget {
+    /// A full tool pose (root frame).
+    Pose(Frame),
+    /// A tool position and tool z axis (unit, root frame); the roll about the axis is free.
+    Axis {
+        /// Tool origin (m).
+        position: Vec3,
+        /// Unit tool z axis.
+        axis: Vec3,
+    },
+}
+
+impl IkTarget {
+    /// A full-pose target, validated (finite, proper rotation).
+    pub fn pose(pose: Frame) -> Result<IkTarget> {
+        for (i, v) in pose.pos.iter().enumerate() {
+            crate::error::require_finite(&format!("target.position[{i}]"), *v)?;
+        }
+        let r = &pose.rot;
+        if !r.iter().all(|x| x.is_finite())
+            || (r.transpose() * r - Mat3::identity()).norm() > 1e-9
+            || r.determinant() < 0.0
+        {
+            return Err(Error::invalid(
+                "target.rotation",
+                format!("{r:?}"),
+                "must be a finite proper rotation matrix",
+            ));
+        }
+        Ok(IkTarget::Pose(pose))
+    }
+
+    /// A position + axis target (roll free), validated; the axis is normalized.
+    pub fn axis(position: Vec3, axis: Vec3) -> Result<IkTarget> {
+        for (i, v) in position.iter().chain(axis.iter()).enumerate() {
+            crate::error::require_finite(&format!("target[{i}]"), *v)?;
+        }
+        let n = axis.norm();
+        if n < 1e-9 {
+            return Err(Error::invalid("target.axis", n, "must be non-zero"));
+        }
+        Ok(IkTarget::Axis {
+            position,
+            axis: axis / n,
+        })
+    }
+
+    /// The same target with the roll freed (pose → its position and tool z axis).
+    pub fn free_roll(&self) -> IkTarget {
+        match *self {
+            IkTarget::Pose(f) => IkTarget::Axis {
+                position: f.pos,
+                axis: f.rot.column(2).into_owned(),
+            },
+            a => a,
+        }
+    }
+
+    /// Position and orientation errors of a tool pose (m, rad).
+    pub fn errors(&self, tool: &Frame) -> (Real, Real) {
+        match self {
+            IkTarget::Pose(t) => (
+                (t.pos - tool.pos).norm(),
+                rotation_angle(&(t.rot * tool.rot.transpose())),
+            ),
+            IkTarget::Axis { position, axis } => {
+                let z = tool.rot.column(2);
+                (
+                    (position - tool.pos).norm(),
+                    z.cross(axis).norm().atan2(z.dot(axis)),
+                )
+            }
+        }
+    }
+
+    /// Residual `e` (6) and, in axis mode, the projection of the angular rows of `jac`.
+    #[inline]
+    fn residual(&self, tool: &Frame, jac: Option<&mut Jacobian>) -> Vector6<Real> {
+        let (p, w) = match self {
+            IkTarget::Pose(t) => (t.pos - tool.pos, log_rot(&(t.rot * tool.rot.transpose()))),
+            IkTarget::Axis { position, axis } => {
+                let z: Vec3 = tool.rot.column(2).into_owned();
+                if let Some(j) = jac {
+                    // (I − z zᵀ) J_ω
+                    for c in 0..MAX_DOF {
+                        let wc: Vec3 = j.fixed_view::<3, 1>(3, c).into_owned();
+                        let proj = wc - z * z.dot(&wc);
+                        j.fixed_view_mut::<3, 1>(3, c).copy_from(&proj);
+                    }
+                }
+                let c = z.cross(axis);
+                let s = c.norm();
+                let ang = s.atan2(z.dot(axis));
+                let w = if s > 1e-300 {
+                    c * (ang / s)
+                } else if ang > 1.0 {
+                    // Antiparallel: turn about any axis ⊥ z.
+                    let any = if z.x.abs() < 0.9 {
+                        Vec3::x()
+                    } else {
+                        Vec3::y()
+                    };
+                    z.cross(&any).normalize() * ang
+                } else {
+                    Vec3::zeros()
+                };
+                (position - tool.pos, w)
+            }
+        };
+        Vector6::new(p.x, p.y, p.z, w.x, w.y, w.z)
+    }
+}
+
+/// Rotation vector of `r` (log map), robust near 0 and π.
+#[inline]
+fn log_rot(r: &Mat3) -> Vec3 {
+    let w = 0.5
+        * Vec3::new(
+            r[(2, 1)] - r[(1, 2)],
+            r[(0, 2)] - r[(2, 0)],
+            r[(1, 0)] - r[(0, 1)],
+        );
+    let s = w.norm();
+    let c = 0.5 * (r.trace() - 1.0);
+    let th = s.atan2(c);
+    if th < 1e-8 {
+        w
+    } else if th < std::f64::consts::PI - 1e-4 {
+        w * (th / s)
+    } else {
+        nalgebra::Rotation3::from_matrix_unchecked(*r).scaled_axis()
+    }
+}
+
+/// Settings of the IK solver (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IkParams {
+    /// Position tolerance (m).
+    pub position_tolerance: Real,
+    /// Orientation tolerance (rad).
+    pub angle_tolerance: Real,
+    /// LM iterations per run (accepted or rejected steps).
+    pub max_iterations: usize,
+    /// Random restarts per redundancy sample (after the caller's seeds).
+    pub restarts: usize,
+    /// The joint locked as the redundancy parameter in [`IkSolver::solve_all`] (`None`: all
+    /// joints free).
+    pub redundancy_joint: Option<usize>,
+    /// Number of values of the redundancy joint, evenly spaced over the span reached by the
+    /// free solutions (≥ 1 when a joint is locked).
+    pub samples: usize,
+    /// Explicit values of the redundancy joint (rad); when non-empty they replace `samples`.
+    pub lock_values: Vec<Real>,
+    /// Free solutions (nearest first) used as seeds for each locked value.
+    pub lock_seeds: usize,
+    /// Seed of the random restarts.
+    pub rng_seed: u64,
+    /// Two solutions closer than this in every joint are the same (rad).
+    pub dedup_tolerance: Real,
+}
+
+impl Default for IkParams {
+    /// `1e-10` m / rad, 100 iterations, 50 restarts, `j0` locked at 8 samples.
+    ///
+    /// ```
+    /// let p = helixreach::robot::ik::IkParams::default();
+    /// assert_eq!(p.position_tolerance, helixreach::math::tol::IK_POSITION);
+    /// ```
+    fn default() -> Self {
+        IkParams {
+            position_tolerance: tol::IK_POSITION,
+            angle_tolerance: tol::IK_ANGLE,
+            max_iterations: 100,
+            restarts: 50,
+            redundancy_joint: Some(0),
+            samples: 8,
+            lock_values: Vec::new(),
+            lock_seeds: 4,
+            rng_seed: 0,
+            dedup_tolerance: 1e-3,
+        }
+    }
+}
+
+/// One IK solution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IkSolution {
+    q: [Real; MAX_DOF],
+    dof: usize,
+    /// Position error by FK (m).
+    pub position_error: Real,
+    /// Orientation error by FK (rad; the tool-axis angle when the roll is free).
+    pub rotation_error: Real,
+    /// LM iterations used.
+    pub iterations: usize,
+}
+
+impl IkSolution {
+    /// The joint values.
+    pub fn joints(&self) -> &[Real] {
+        &self.q[..self.dof]
+    }
+}
+
+/// The solver: a model and its settings.
+#[derive(Clone, Debug)]
+pub struct IkSolver<'a> {
+    model: &'a RobotModel,
+    params: IkParams,
+    lower: [Real; MAX_DOF],
+    upper: [Real; MAX_DOF],
+}
+
+impl<'a> IkSolver<'a> {
+    /// A solver for `model`; checks the parameters.
+    pub fn new(model: &'a RobotModel, params: IkParams) -> Result<IkSolver<'a>> {
+        crate::error::require_positive("ik.position_tolerance", params.position_tolerance)?;
+        crate::error::require_positive("ik.angle_tolerance", params.angle_tolerance)?;
+        if let Some(j) = params.redundancy_joint {
+            if j >= model.dof() {
+                return Err(Error::invalid(
+                    "ik.redundancy_joint",
+                    j,
+                    format!("the chain has {} joints", model.dof()),
+                ));
+            }
+            if params.samples == 0 {
+                return Err(Error::invalid("ik.samples", 0, "must be ≥ 1"));
+            }
+        }
+        Ok(IkSolver {
+            model,
+            lower: model.lower(),
+            upper: model.upper(),
+            params,
+        })
+    }
+
+    /// The settings.
+    pub fn params(&self) -> &IkParams {
+        &self.params
+    }
+
+    /// One LM run from `seed` (the planner's "track" mode): the joint `lock.0`, if given, is held
+    /// at `lock.1`. `None` if it does not converge within the iterations.
+    pub fn track(
+        &self,
+        target: &IkTarget,
+        seed: &[Real],
+        lock: Option<(usize, Real)>,
+    ) -> Option<IkSolution> {
+        let n = self.model.dof();
+        if seed.len() != n {
+            return None;
+        }
+        let mut q = [0.0; MAX_DOF];
+        for i in 0..n {
+            q[i] = seed[i].clamp(self.lower[i], self.upper[i]);
+        }
+        if let Some((j, v)) = lock {
+            if j >= n || !(self.lower[j]..=self.upper[j]).contains(&v) {
+                return None;
+            }
+            q[j] = v;
+        }
+        self.lm(target, q, lock.map(|l| l.0))
+    }
+
+    /// The first solution found: from `seed` (if any), then from random restarts, all joints
+    /// free.
+    pub fn solve(&self, target: &IkTarget, seed: Option<&[Real]>) -> Option<IkSolution> {
+        if let Some(s) = seed {
+            if let Some(sol) = self.track(target, s, None) {
+                return Some(sol);
+            }
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(self.params.rng_seed);
+        for _ in 0..self.params.restarts {
+            let q = self.random(&mut rng);
+            if let Some(sol) = self.lm(target, q, None) {
+                return Some(sol);
+            }
+        }
+        None
+    }
+
+    /// Every distinct solution found (see the module docs), deterministic order: first the
+    /// solutions with the redundancy joint locked at each sampled value, then the free ones.
+    pub fn solve_all(&self, target: &IkTarget, seeds: &[&[Real]]) -> Vec<IkSolution> {
+        let tol = self.params.dedup_tolerance;
+        let push = |sol: IkSolution, out: &mut Vec<IkSolution>| {
+            let dup = out.iter().any(|o| {
+                o.joints()
+                    .iter()
+                    .zip(sol.joints())
+                    .all(|(a, b)| (a - b).abs() <= tol)
+            });
+            if !dup {
+                out.push(sol);
+            }
+        };
+        // Phase 1: free runs from the caller's seeds and random restarts.
+        let mut free: Vec<IkSolution> = Vec::new();
+        for s in seeds {
+            if let Some(sol) = self.track(target, s, None) {
+                push(sol, &mut free);
+            }
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(self.params.rng_seed);
+        for _ in 0..self.params.restarts {
+            let q = self.random(&mut rng);
+            if let Some(sol) = self.lm(target, q, None) {
+                push(sol, &mut free);
+            }
+        }
+        let Some(j) = self.params.redundancy_joint else {
+            return free;
+        };
+        // Phase 2: lock joint j at values spread over the span the free solutions reached (or
+        // the caller's values), seeded from the nearest free solutions.
+        let values: Vec<Real> = if !self.params.lock_values.is_empty() {
+            self.params.lock_values.clone()
+        } else if free.is_empty() {
+            Vec::new()
+        } else {
+            let lo = free.iter().map(|s| s.q[j]).fold(Real::INFINITY, Real::min);
+            let hi = free
+                .iter()
+                .map(|s| s.q[j])
+                .fold(Real::NEG_INFINITY, Real::max);
+            let n = self.params.samples.max(1);
+            (0..n)
+                .map(|k| lo + (k as Real + 0.5) * (hi - lo) / n as Real)
+                .collect()
+        };
+        let mut out: Vec<IkSolution> = Vec::new();
+        let mut order: Vec<usize> = (0..free.len()).collect();
+        for v in values {
+            if !(self.lower[j]..=self.upper[j]).contains(&v) {
+                continue;
+            }
+            order.sort_by(|&a, &b| {
+                (free[a].q[j] - v)
+                    .abs()
+                    .total_cmp(&(free[b].q[j] - v).abs())
+            });
+            for &f in order.iter().take(self.params.lock_seeds) {
+                if let Some(sol) = self.track(target, free[f].joints(), Some((j, v))) {
+                    push(sol, &mut out);
+                }
+            }
+        }
+        for f in free {
+            push(f, &mut out);
+        }
+        out
+    }
+
+    fn random(&self, rng: &mut ChaCha8Rng) -> [Real; MAX_DOF] {
+        let mut q = [0.0; MAX_DOF];
+        for i in 0..self.model.dof() {
+            q[i] = rng.random_range(self.lower[i]..=self.upper[i]);
+        }
+        q
+    }
+
+    /// Box-constrained LM from `q` (inside the limits).
+    fn lm(
+        &self,
+        target: &IkTarget,
+        mut q: [Real; MAX_DOF],
+        locked: Option<usize>,
+    ) -> Option<IkSolution> {
+        let n = self.model.dof();
+        let chain = self.model.chain();
+        let (tp, ta) = (self.params.position_tolerance, self.params.angle_tolerance);
+        let mut jac = Jacobian::zeros();
+        let mut tool = chain.jacobian(&q[..n], &mut jac);
+        let mut e = target.residual(&tool, Some(&mut jac));
+        let mut err2 = e.norm_squared();
+        let mut lambda: Real = 1e-3;
+        for it in 0..self.params.max_iterations {
+            let (pe, ae) = target.errors(&tool);
+            if pe <= tp && ae <= ta {
+                return Some(IkSolution {
+                    q,
+                    dof: n,
+                    position_error: pe,
+                    rotation_error: ae,
+                    iterations: it,
+                });
+            }
+            // Active set: free joints that are not pushed outward through a limit.
+            let mut active = [false; MAX_DOF];
+            for i in 0..n {
+                active[i] = Some(i) != locked;
+            }
+            // Joint-limit weighting (weighted least norm, Chan & Dubey 1995): a joint moving
+            // toward a limit gets weight w = 1 + |∂H/∂q|, H = Σ r²/(4 (u − q)(q − l)); its
+            // column is scaled by 1/√w, so the redundant arm moves the other joints instead.
+            let mut scale = [1.0; MAX_DOF];
+            for i in 0..n {
+                let (l, u) = (self.lower[i], self.upper[i]);
+                let (a, b) = ((u - q[i]).max(1e-9), (q[i] - l).max(1e-9));
+                let r = u - l;
+                let g = r * r * (2.0 * q[i] - u - l) / (4.0 * a * a * b * b);
+                scale[i] = 1.0 / (1.0 + g.abs()).sqrt();
+            }
+            let mut dq = [0.0; MAX_DOF];
+            for _pass in 0..=n {
+                let mut ja = jac;
+                for i in 0..MAX_DOF {
+                    if !active[i] {
+                        ja.column_mut(i).fill(0.0);
+                    } else {
+                        ja.column_mut(i).scale_mut(scale[i]);
+                    }
+                }
+                let mut a: Matrix6<Real> = ja * ja.transpose();
+                for d in 0..6 {
+                    a[(d, d)] += lambda;
+                }
+                let y = match a.cholesky() {
+                    Some(ch) => ch.solve(&e),
+                    None => break,
+                };
+                let mut step = ja.transpose() * y;
+                for i in 0..MAX_DOF {
+                    step[i] *= scale[i];
+                }
+                let mut changed = false;
+                for i in 0..n {
+                    dq[i] = step[i];
+                    if active[i] {
+                        let at_lo = q[i] <= self.lower[i] && step[i] < 0.0;
+                        let at_hi = q[i] >= self.upper[i] && step[i] > 0.0;
+                        if at_lo || at_hi {
+                            active[i] = false;
+                            changed = true;
+                        }
+                    }
+                }
+                if !changed {
+                    break;
+                }
+            }
+            let mut qn = q;
+            for i in 0..n {
+                if active[i] {
+                    qn[i] = (q[i] + dq[i]).clamp(self.lower[i], self.upper[i]);
+                }
+            }
+            let tool_n = chain.tool_pose(&qn[..n]);
+            let en = target.residual(&tool_n, None);
+            let err2n = en.norm_squared();
+            if err2n < err2 {
+                q = qn;
+                tool = chain.jacobian(&q[..n], &mut jac);
+                e = target.residual(&tool, Some(&mut jac));
+                err2 = e.norm_squared();
+                lambda = (lambda * 0.2).max(1e-14);
+            } else {
+                lambda *= 8.0;
+                if lambda > 1e6 {
+                    return None;
+                }
+            }
+        }
+        None
+    }
+}

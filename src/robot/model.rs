@@ -1,0 +1,310 @@
+//! The immutable robot model: links with their primitive collision geometry, the actuated
+//! joints from the root to the tool link with their limits, and the compiled [`Chain`].
+//!
+//! A model is built once from a URDF ([`RobotModel::from_urdf_file`],
+//! [`RobotModel::from_urdf_str`], [`RobotModel::load`] for the built-in robots) and is then
+//! shared read-only (it is `Send + Sync`); every kinematic function is a pure function of the
+//! model and a joint vector.
+//!
+//! # Conventions
+//! - The joint vector holds the actuated (revolute/continuous) joints on the path from the
+//!   URDF root to the tool link, root first. Movable joints off that path (the Sawyer's
+//!   `head_pan`) are frozen at 0 (clamped into their limits).
+//! - Every pose is in the URDF root frame; orientation tolerance in rad, position in m.
+//! - Cylinders and capsules are along the local z axis of their collision origin (URDF).
+
+use super::kinematics::{Chain, Frame, Jacobian, MAX_DOF};
+use crate::error::{Error, Result};
+use crate::math::{Quat, Real, Vec3};
+
+/// An actuated joint of the chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointInfo {
+    /// URDF joint name.
+    pub name: String,
+    /// Parent link name.
+    pub parent_link: String,
+    /// Child link name.
+    pub child_link: String,
+    /// Lower position limit (rad).
+    pub lower: Real,
+    /// Upper position limit (rad).
+    pub upper: Real,
+    /// Velocity limit (rad/s; 0 when the URDF gives none).
+    pub velocity: Real,
+    /// Unit axis in the joint frame.
+    pub axis: Vec3,
+}
+
+/// A primitive collision shape in its own frame (cylinders and capsules along local z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    /// Ball.
+    Sphere {
+        /// Radius (m).
+        radius: Real,
+    },
+    /// Box.
+    Box {
+        /// Half extents along x, y, z (m).
+        half_extents: Vec3,
+    },
+    /// Cylinder along z, centred at the origin.
+    Cylinder {
+        /// Radius (m).
+        radius: Real,
+        /// Half of the length (m).
+        half_length: Real,
+    },
+    /// Capsule along z: the points within `radius` of the segment `z ∈ [−half_length, half_length]`.
+    Capsule {
+        /// Radius (m).
+        radius: Real,
+        /// Half of the segment length (m).
+        half_length: Real,
+    },
+}
+
+impl Shape {
+    /// Radius of a ball centred at the shape's origin that encloses it.
+    pub fn bounding_radius(&self) -> Real {
+        match *self {
+            Shape::Sphere { radius } => radius,
+            Shape::Box { half_extents } => half_extents.norm(),
+            Shape::Cylinder {
+                radius,
+                half_length,
+            } => radius.hypot(half_length),
+            Shape::Capsule {
+                radius,
+                half_length,
+            } => radius + half_length,
+        }
+    }
+}
+
+/// One collision element of a link.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CollisionGeometry {
+    /// Pose of the shape in the link frame.
+    pub origin: Frame,
+    /// The shape.
+    pub shape: Shape,
+}
+
+/// A link of the model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinkInfo {
+    /// URDF link name.
+    pub name: String,
+    /// Index of the parent link (`None` for the root).
+    pub parent: Option<usize>,
+    /// Name of the joint that places the link (`None` for the root).
+    pub joint: Option<String>,
+    /// Index of the rigid group: links joined by fixed (or frozen) joints share it; it is the
+    /// index of the group's first link.
+    pub group: usize,
+    /// Primitive collision geometry.
+    pub collision: Vec<CollisionGeometry>,
+}
+
+/// The immutable robot model (see the module docs).
+#[derive(Clone, Debug)]
+pub struct RobotModel {
+    pub(crate) name: String,
+    pub(crate) source: String,
+    pub(crate) tip_link: String,
+    pub(crate) tip_index: usize,
+    pub(crate) joints: Vec<JointInfo>,
+    pub(crate) links: Vec<LinkInfo>,
+    pub(crate) frozen: Vec<(String, Real)>,
+    pub(crate) ignored: Vec<String>,
+    pub(crate) chain: Chain,
+    pub(crate) urdf: urdf_rs::Robot,
+}
+
+impl RobotModel {
+    /// The robot's URDF name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// Where the model came from (a path or `builtin:<name>`).
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+    /// The root link name.
+    pub fn root_link(&self) -> &str {
+        &self.links[0].name
+    }
+    /// The tool link name.
+    pub fn tip_link(&self) -> &str {
+        &self.tip_link
+    }
+    /// Index of the tool link in [`RobotModel::links`].
+    pub fn tip_index(&self) -> usize {
+        self.tip_index
+    }
+    /// Number of actuated joints.
+    pub fn dof(&self) -> usize {
+        self.joints.len()
+    }
+    /// The actuated joints, root first.
+    pub fn joints(&self) -> &[JointInfo] {
+        &self.joints
+    }
+    /// Every link, in topological order (root first); the order of [`Chain::link_frames`].
+    pub fn links(&self) -> &[LinkInfo] {
+        &self.links
+    }
+    /// Index of a link by name.
+    pub fn link_index(&self, name: &str) -> Option<usize> {
+        self.links.iter().position(|l| l.name == name)
+    }
+    /// Movable joints off the chain and the value they are frozen at.
+    pub fn frozen_joints(&self) -> &[(String, Real)] {
+        &self.frozen
+    }
+    /// URDF collision elements that were ignored (meshes), as `link: what`.
+    pub fn ignored_geometry(&self) -> &[String] {
+        &self.ignored
+    }
+    /// The compiled chain (hot paths).
+    pub fn chain(&self) -> &Chain {
+        &self.chain
+    }
+    /// The parsed URDF (for the k cross-check).
+    pub fn urdf(&self) -> &urdf_rs::Robot {
+        &self.urdf
+    }
+    /// Lower limits, one per joint.
+    pub fn lower(&self) -> [Real; MAX_DOF] {
+        let mut a = [0.0; MAX_DOF];
+        for (x, j) in a.iter_mut().zip(&self.joints) {
+            *x = j.lower;
+        }
+        a
+    }
+    /// Upper limits, one per joint.
+    pub fn upper(&self) -> [Real; MAX_DOF] {
+        let mut a = [0.0; MAX_DOF];
+        for (x, j) in a.iter_mut().zip(&self.joints) {
+            *x = j.upper;
+        }
+        a
+    }
+
+    /// Check a user joint vector: right length, finite. Limits are not checked (see
+    /// [`RobotModel::within_limits`]).
+    pub fn check_joints(&self, q: &[Real]) -> Result<()> {
+        if q.len() != self.dof() {
+            let names: Vec<&str> = self.joints.iter().map(|j| j.name.as_str()).collect();
+            return Err(Error::invalid(
+                "joints",
+                format!("{} values", q.len()),
+                format!(
+                    "{} ({} → {}) has {} joints: {}",
+                    self.name,
+                    self.root_link(),
+                    self.tip_link,
+                    self.dof(),
+                    names.join(",")
+                ),
+            ));
+        }
+        for (v, j) in q.iter().zip(&self.joints) {
+            if !v.is_finite() {
+                return Err(Error::invalid(
+                    format!("joints[{}]", j.name),
+                    v,
+                    "must be finite",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether every joint is within its limits (inclusive, with slack `eps` rad).
+    pub fn within_limits(&self, q: &[Real], eps: Real) -> bool {
+        q.iter()
+            .zip(&self.joints)
+            .all(|(v, j)| *v >= j.lower - eps && *v <= j.upper + eps)
+    }
+
+    /// Checked tool pose.
+    ///
+    /// ```
+    /// let m = helixreach::robot::RobotModel::load("sawyer", None).unwrap();
+    /// let p = m.tool_pose(&[0.0; 7]).unwrap();
+    /// // right_hand at (1.0155, 0.1603, 0.3170) (reference), the motor tip 0.171 m further along +x.
+    /// assert!((p.pos.x - (1.0155 + 0.171)).abs() < 2e-3);
+    /// assert!(m.tool_pose(&[0.0; 6]).is_err());
+    /// ```
+    pub fn tool_pose(&self, q: &[Real]) -> Result<Frame> {
+        self.check_joints(q)?;
+        Ok(self.chain.tool_pose(q))
+    }
+
+    /// Checked tool pose and Jacobian.
+    pub fn jacobian(&self, q: &[Real]) -> Result<(Frame, Jacobian)> {
+        self.check_joints(q)?;
+        let mut j = Jacobian::zeros();
+        let f = self.chain.jacobian(q, &mut j);
+        Ok((f, j))
+    }
+
+    /// Checked frames of every link (order of [`RobotModel::links`]).
+    pub fn link_frames(&self, q: &[Real]) -> Result<Vec<Frame>> {
+        self.check_joints(q)?;
+        let mut out = vec![Frame::identity(); self.links.len()];
+        self.chain.link_frames(q, &mut out);
+        Ok(out)
+    }
+
+    /// A uniformly random configuration within the limits.
+    pub fn random_config<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> [Real; MAX_DOF] {
+        let mut q = [0.0; MAX_DOF];
+        for (x, j) in q.iter_mut().zip(&self.joints) {
+            *x = rng.random_range(j.lower..=j.upper);
+        }
+        q
+    }
+}
+
+/// A pose from `x, y, z, qw, qx, qy, qz` (metres; unit quaternion), validated: finite values
+/// and `|‖q‖ − 1| ≤ 1e-6` (the quaternion is then normalized).
+///
+/// ```
+/// use helixreach::robot::pose_from_xyz_wxyz;
+/// assert!(pose_from_xyz_wxyz(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]).is_ok());
+/// let e = pose_from_xyz_wxyz(&[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0]).unwrap_err();
+/// assert!(e.to_string().contains("quaternion"));
+/// ```
+pub fn pose_from_xyz_wxyz(v: &[Real]) -> Result<Frame> {
+    if v.len() != 7 {
+        return Err(Error::invalid(
+            "pose",
+            format!("{} values", v.len()),
+            "expected 7: x,y,z,qw,qx,qy,qz",
+        ));
+    }
+    const NAMES: [&str; 7] = ["x", "y", "z", "qw", "qx", "qy", "qz"];
+    for (x, n) in v.iter().zip(NAMES) {
+        if !x.is_finite() {
+            return Err(Error::invalid(format!("pose.{n}"), x, "must be finite"));
+        }
+    }
+    let q = nalgebra::Quaternion::new(v[3], v[4], v[5], v[6]);
+    let n = q.norm();
+    if (n - 1.0).abs() > 1e-6 {
+        return Err(Error::invalid(
+            "pose quaternion (qw,qx,qy,qz)",
+            format!("norm {n}"),
+            "must be a unit quaternion (|norm − 1| ≤ 1e-6)",
+        ));
+    }
+    let uq = Quat::from_quaternion(q);
+    Ok(Frame::new(
+        *uq.to_rotation_matrix().matrix(),
+        Vec3::new(v[0], v[1], v[2]),
+    ))
+}

@@ -1,0 +1,314 @@
+//! Robot model tests: the compiled kinematics against k (an independent library) and finite
+//! differences, IK solutions re-checked by FK and limits, collision against parry's own
+//! pairwise queries, and clear errors for bad input.
+
+use helixreach::math::{rotation_angle, Mat3, Real, Vec3};
+use helixreach::robot::k_bridge::KRobot;
+use helixreach::robot::{
+    pose_from_xyz_wxyz, Frame, IkParams, IkSolver, IkTarget, Jacobian, RobotModel, MAX_DOF,
+};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+const ROBOTS: [&str; 3] = ["sawyer", "panda", "iiwa14"];
+const SEED_Q: [Real; 7] = [-0.857, -0.873, -1.819, -0.034, 1.860, 2.434, -2.200];
+
+fn frame_diff(a: &Frame, b: &Frame) -> (Real, Real) {
+    ((a.pos - b.pos).norm(), (a.rot - b.rot).abs().max())
+}
+
+#[test]
+fn compiled_fk_equals_k_fk_at_10000_random_configs() {
+    for name in ROBOTS {
+        let m = RobotModel::load(name, None).unwrap();
+        let k = KRobot::new(&m).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let mut worst: (Real, Real) = (0.0, 0.0);
+        for _ in 0..10_000 {
+            let q = m.random_config(&mut rng);
+            let q = &q[..m.dof()];
+            let (dp, dr) = frame_diff(&m.chain().tool_pose(q), &k.tool_pose(q));
+            worst = (worst.0.max(dp), worst.1.max(dr));
+        }
+        assert!(
+            worst.0 <= 1e-12 && worst.1 <= 1e-12,
+            "{name}: tool pose vs k: {worst:?}"
+        );
+    }
+}
+
+#[test]
+fn every_link_frame_equals_k() {
+    for name in ROBOTS {
+        let m = RobotModel::load(name, None).unwrap();
+        let k = KRobot::new(&m).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(2);
+        let mut buf = vec![Frame::identity(); m.chain().n_links()];
+        for _ in 0..1000 {
+            let q = m.random_config(&mut rng);
+            let q = &q[..m.dof()];
+            m.chain().link_frames(q, &mut buf);
+            let kf = k.link_frames(q);
+            for (i, (a, b)) in buf.iter().zip(&kf).enumerate() {
+                let (dp, dr) = frame_diff(a, b);
+                assert!(
+                    dp <= 1e-12 && dr <= 1e-12,
+                    "{name} link {}: {dp:e} {dr:e}",
+                    m.links()[i].name
+                );
+            }
+            // The tool link frame of the tree equals the tool pose of the chain.
+            let (dp, dr) = frame_diff(&buf[m.tip_index()], &m.chain().tool_pose(q));
+            assert!(dp <= 1e-12 && dr <= 1e-12);
+        }
+    }
+}
+
+#[test]
+fn reference_poses_of_the_flanges() {
+    // shared/reference/robots/README.md: flange positions at q = 0 and at named poses.
+    let s = RobotModel::load("sawyer", Some("right_hand")).unwrap();
+    let p = s.tool_pose(&[0.0; 7]).unwrap().pos;
+    assert!((p - Vec3::new(1.0155, 0.1603, 0.3170)).norm() < 1e-4, "{p}");
+    let neutral = [0.0, -1.18, 0.0, 2.18, 0.0, 0.57, 3.3161];
+    let p = s.tool_pose(&neutral).unwrap().pos;
+    assert!((p - Vec3::new(0.4496, 0.1603, 0.2158)).norm() < 1e-4, "{p}");
+    let panda = RobotModel::load("panda", None).unwrap();
+    let pi = std::f64::consts::PI;
+    let ready = [
+        0.0,
+        -pi / 4.0,
+        0.0,
+        -3.0 * pi / 4.0,
+        0.0,
+        pi / 2.0,
+        pi / 4.0,
+    ];
+    let p = panda.tool_pose(&ready).unwrap().pos;
+    assert!((p - Vec3::new(0.3069, 0.0, 0.5903)).norm() < 1e-4, "{p}");
+    let iiwa = RobotModel::load("iiwa14", None).unwrap();
+    let p = iiwa.tool_pose(&[0.0; 7]).unwrap().pos;
+    assert!((p - Vec3::new(0.0, 0.0, 1.306)).norm() < 1e-4, "{p}");
+    // The motor tip is (0.003, 0.0035, 0.171) from right_hand, same rotation.
+    let tip = RobotModel::load("sawyer", None).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for _ in 0..100 {
+        let q = tip.random_config(&mut rng);
+        let h = s.chain().tool_pose(&q[..7]);
+        let t = tip.chain().tool_pose(&q[..7]);
+        let expect = h.transform_point(&Vec3::new(0.003, 0.0035, 0.171));
+        assert!((t.pos - expect).norm() < 1e-14);
+        assert!((t.rot - h.rot).abs().max() < 1e-15);
+    }
+}
+
+/// Rotation vector of a small rotation: vee((R − Rᵀ)/2) = sin θ·axis (θ³ error, ~1e-18 here).
+fn vee_log(r: &Mat3) -> Vec3 {
+    0.5 * Vec3::new(
+        r[(2, 1)] - r[(1, 2)],
+        r[(0, 2)] - r[(2, 0)],
+        r[(1, 0)] - r[(0, 1)],
+    )
+}
+
+#[test]
+fn jacobian_equals_central_differences() {
+    for name in ROBOTS {
+        let m = RobotModel::load(name, None).unwrap();
+        let n = m.dof();
+        let mut rng = ChaCha8Rng::seed_from_u64(4);
+        let h = 1e-6;
+        for _ in 0..200 {
+            let q = m.random_config(&mut rng);
+            let mut jac = Jacobian::zeros();
+            let f0 = m.chain().jacobian(&q[..n], &mut jac);
+            assert_eq!(f0, m.chain().tool_pose(&q[..n]));
+            for i in 0..MAX_DOF {
+                if i >= n {
+                    assert_eq!(jac.column(i).norm(), 0.0);
+                    continue;
+                }
+                let (mut qp, mut qm) = (q, q);
+                qp[i] += h;
+                qm[i] -= h;
+                let fp = m.chain().tool_pose(&qp[..n]);
+                let fm = m.chain().tool_pose(&qm[..n]);
+                let v = (fp.pos - fm.pos) / (2.0 * h);
+                let w = vee_log(&(fp.rot * fm.rot.transpose())) / (2.0 * h);
+                let jv: Vec3 = jac.fixed_view::<3, 1>(0, i).into_owned();
+                let jw: Vec3 = jac.fixed_view::<3, 1>(3, i).into_owned();
+                assert!((jv - v).norm() < 1e-8, "{name} col {i} v: {jv} vs {v}");
+                assert!((jw - w).norm() < 1e-8, "{name} col {i} w: {jw} vs {w}");
+            }
+        }
+    }
+}
+
+fn check_solution(m: &RobotModel, target: &IkTarget, q: &[Real]) {
+    assert!(m.within_limits(q, 0.0), "outside limits: {q:?}");
+    let f = m.tool_pose(q).unwrap();
+    let (pe, ae) = target.errors(&f);
+    assert!(pe <= 1e-10 && ae <= 1e-10, "errors {pe:e} {ae:e}");
+}
+
+#[test]
+fn ik_solves_random_reachable_poses_and_every_solution_checks_out() {
+    for name in ROBOTS {
+        let m = RobotModel::load(name, None).unwrap();
+        let solver = IkSolver::new(&m, IkParams::default()).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let trials = 1000;
+        let mut ok = 0;
+        for _ in 0..trials {
+            let q = m.random_config(&mut rng);
+            let target = IkTarget::pose(m.chain().tool_pose(&q[..m.dof()])).unwrap();
+            if let Some(sol) = solver.solve(&target, None) {
+                check_solution(&m, &target, sol.joints());
+                ok += 1;
+            }
+        }
+        let rate = ok as Real / trials as Real;
+        println!("{name}: IK success {rate}");
+        assert!(rate >= 0.99, "{name}: IK success rate {rate}");
+    }
+}
+
+#[test]
+fn ik_all_solutions_are_distinct_valid_and_respect_the_redundancy_lock() {
+    let m = RobotModel::load("sawyer", None).unwrap();
+    let params = IkParams {
+        samples: 6,
+        restarts: 20,
+        ..IkParams::default()
+    };
+    let solver = IkSolver::new(&m, params.clone()).unwrap();
+    let target = IkTarget::pose(m.chain().tool_pose(&SEED_Q)).unwrap();
+    let sols = solver.solve_all(&target, &[&SEED_Q]);
+    assert!(sols.len() >= 6, "only {} solutions", sols.len());
+    // Explicit lock values are honoured exactly.
+    let locked = IkSolver::new(
+        &m,
+        IkParams {
+            lock_values: vec![-1.2, -0.9],
+            ..params.clone()
+        },
+    )
+    .unwrap()
+    .solve_all(&target, &[&SEED_Q]);
+    for v in [-1.2, -0.9] {
+        assert!(
+            locked.iter().any(|s| s.joints()[0] == v),
+            "no solution at j0 = {v}"
+        );
+    }
+    for s in &locked {
+        check_solution(&m, &target, s.joints());
+    }
+    for (i, s) in sols.iter().enumerate() {
+        check_solution(&m, &target, s.joints());
+        for t in &sols[..i] {
+            let d = s
+                .joints()
+                .iter()
+                .zip(t.joints())
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, Real::max);
+            assert!(d > params.dedup_tolerance);
+        }
+    }
+    // Deterministic for a given seed.
+    assert_eq!(sols, solver.solve_all(&target, &[&SEED_Q]));
+}
+
+#[test]
+fn ik_free_roll_matches_position_and_axis_only() {
+    let m = RobotModel::load("sawyer", None).unwrap();
+    let solver = IkSolver::new(&m, IkParams::default()).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(6);
+    let mut ok = 0;
+    for _ in 0..200 {
+        let q = m.random_config(&mut rng);
+        let f = m.chain().tool_pose(&q[..7]);
+        let target = IkTarget::pose(f).unwrap().free_roll();
+        if let Some(sol) = solver.solve(&target, None) {
+            check_solution(&m, &target, sol.joints());
+            let g = m.chain().tool_pose(sol.joints());
+            // Independent check: position and z axis by FK.
+            assert!((g.pos - f.pos).norm() < 1e-10);
+            assert!((g.rot.column(2) - f.rot.column(2)).norm() < 1e-10);
+            ok += 1;
+        }
+    }
+    assert!(ok >= 199, "{ok}/200");
+}
+
+#[test]
+fn ik_track_follows_a_small_motion_to_the_nearby_solution() {
+    let m = RobotModel::load("sawyer", None).unwrap();
+    let solver = IkSolver::new(&m, IkParams::default()).unwrap();
+    // From the Sawyer's named `neutral` pose (right_j6 moved into its range).
+    let mut q = [0.0, -1.18, 0.0, 2.18, 0.0, 0.57, 0.3];
+    let start = m.chain().tool_pose(&q);
+    for k in 1..=100 {
+        // Move the tool 0.5 mm per step along +z and turn it 0.1° about x.
+        let mut t = start;
+        t.pos.z += 0.5e-3 * k as Real;
+        t.rot = helixreach::math::so3_exp(&Vec3::new(0.1f64.to_radians() * k as Real, 0.0, 0.0))
+            * start.rot;
+        let target = IkTarget::pose(t).unwrap();
+        let sol = solver
+            .track(&target, &q, None)
+            .unwrap_or_else(|| panic!("track fails at step {k} from {q:?}"));
+        check_solution(&m, &target, sol.joints());
+        let step = sol
+            .joints()
+            .iter()
+            .zip(&q)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, Real::max);
+        assert!(step < 0.1, "joint jump {step} at step {k}");
+        q.copy_from_slice(sol.joints());
+    }
+}
+
+#[test]
+fn bad_input_gives_clear_errors() {
+    let e = RobotModel::from_urdf_file("/nonexistent/robot.urdf", None).unwrap_err();
+    assert!(e.to_string().contains("/nonexistent/robot.urdf"), "{e}");
+    let e =
+        RobotModel::from_urdf_str("<robot name='x'><link name='a'>", "bad.urdf", None).unwrap_err();
+    assert!(
+        e.to_string().contains("bad.urdf") && e.to_string().contains("malformed"),
+        "{e}"
+    );
+    let e = RobotModel::load("sawyer", Some("right_gripper")).unwrap_err();
+    assert!(
+        e.to_string().contains("tip_link") && e.to_string().contains("right_gripper"),
+        "{e}"
+    );
+    let m = RobotModel::load("sawyer", None).unwrap();
+    let e = m.tool_pose(&[0.0; 6]).unwrap_err();
+    assert!(
+        e.to_string().contains("joints") && e.to_string().contains("right_j6"),
+        "{e}"
+    );
+    let e = m
+        .tool_pose(&[0.0, 0.0, Real::NAN, 0.0, 0.0, 0.0, 0.0])
+        .unwrap_err();
+    assert!(e.to_string().contains("right_j2"), "{e}");
+    let e = pose_from_xyz_wxyz(&[0.5, Real::NAN, 0.0, 1.0, 0.0, 0.0, 0.0]).unwrap_err();
+    assert!(e.to_string().contains("pose.y"), "{e}");
+    let e = pose_from_xyz_wxyz(&[0.5, 0.0, 0.0, 0.9, 0.0, 0.0, 0.0]).unwrap_err();
+    assert!(e.to_string().contains("quaternion"), "{e}");
+    let e = IkTarget::axis(Vec3::zeros(), Vec3::zeros()).unwrap_err();
+    assert!(e.to_string().contains("axis"), "{e}");
+    // A non-finite joint origin names the joint.
+    let bad = helixreach::robot::builtin("panda")
+        .unwrap()
+        .urdf
+        .replace("xyz=\"0 0 0.333\"", "xyz=\"0 0 nan\"");
+    let e = RobotModel::from_urdf_str(&bad, "panda-bad.urdf", None).unwrap_err();
+    assert!(e.to_string().contains("fer_joint1"), "{e}");
+    // Rotation angle helper sanity (used by every IK check above).
+    assert!(rotation_angle(&Mat3::identity()).abs() < 1e-15);
+}
