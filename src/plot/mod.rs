@@ -1,1 +1,144 @@
 //! Figures (plotters, PNG and SVG) from saved records (DESIGN.md §6).
+//!
+//! The plot module reads records only — rows of the CSV files the other commands write, or the
+//! same rows built in memory — and never calls the solvers. One file per figure kind:
+//!
+//! | figure | function | records |
+//! |---|---|---|
+//! | stability boundary surface in κ-τ-ω (3-D projection) | [`boundary3d::render`] | [`BoundaryRow`] |
+//! | equal-area map of search directions by class and cause | [`direction_map::render`] | [`ReachRow`] (+ marked [`Direction`]s) |
+//! | the ω = 0 section, boundary curve with the reachable part | [`section::render`] | [`BoundaryRow`] (+ [`ReachRow`]) |
+//! | helix error e versus ‖S‖ (DER dynamics) | [`error_vs_s::render`] | [`Series`] |
+//! | speed versus error of boundary methods (log-log) | [`speed_error::render`] | [`SpeedErrorRow`] |
+//! | joint and motor angles versus s, with joint limits | [`trajectory::render`] | [`TrajectoryRow`] (+ [`JointLimit`]) |
+//!
+//! The output format follows the file extension (`.png` or `.svg`, case-insensitive); anything
+//! else is an [`Error::InvalidParameter`] naming the path. Files are written atomically (temp file
+//! in the same directory, then rename). Text uses the embedded DejaVu Sans (see [`style`]), so
+//! rendering needs no system fonts.
+//!
+//! ```
+//! use helixreach::plot::{speed_error, SpeedErrorRow};
+//! let rows = vec![SpeedErrorRow {
+//!     method: "continuum".into(), resolution: "tol=1e-8".into(),
+//!     time_per_direction_s: 2e-5, max_rel_err: 1e-9, median_rel_err: 1e-10,
+//! }];
+//! let out = std::env::temp_dir().join("helixreach-doc-speed.svg");
+//! speed_error::render(&rows, &out).unwrap();
+//! let svg = std::fs::read_to_string(&out).unwrap();
+//! assert!(svg.contains("time per direction"));
+//! ```
+//!
+//! [`Direction`]: crate::directions::Direction
+
+pub mod boundary3d;
+pub mod direction_map;
+pub mod error_vs_s;
+pub mod records;
+pub mod section;
+pub mod speed_error;
+pub mod style;
+pub mod trajectory;
+
+pub use records::{
+    read_boundary, read_joint_limits, read_reach, read_series, read_speed_error, read_trajectory,
+    BoundaryRow, Cause, JointLimit, ReachClass, ReachRow, Series, SeriesRow, SpeedErrorRow,
+    TrajectoryRow,
+};
+
+use crate::error::{Error, Result};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Output format of a figure, chosen by the file extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Raster PNG (bitmap backend).
+    Png,
+    /// Vector SVG (text kept as `<text>` elements).
+    Svg,
+}
+
+impl Format {
+    /// The format of `path` from its extension (`png` or `svg`, any case).
+    ///
+    /// ```
+    /// use helixreach::plot::Format;
+    /// use std::path::Path;
+    /// assert_eq!(Format::from_path(Path::new("a/b.SVG")).unwrap(), Format::Svg);
+    /// assert!(Format::from_path(Path::new("b.pdf")).is_err());
+    /// ```
+    pub fn from_path(path: &Path) -> Result<Format> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match ext.as_deref() {
+            Some("png") => Ok(Format::Png),
+            Some("svg") => Ok(Format::Svg),
+            _ => Err(Error::invalid(
+                "out",
+                path.display(),
+                "the figure file must end in .png or .svg",
+            )),
+        }
+    }
+}
+
+/// Result of drawing on a backend.
+pub(crate) type DrawResult<DB> =
+    std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+/// A figure ready to draw: validated data and layout, independent of the backend.
+pub(crate) trait Figure {
+    /// Size in pixels (width, height).
+    fn size(&self) -> (u32, u32);
+    /// Draw on a white root area of [`Figure::size`].
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB>;
+}
+
+/// Render `fig` into `out` (format by extension), atomically.
+pub(crate) fn save<F: Figure>(fig: &F, out: &Path) -> Result<()> {
+    let format = Format::from_path(out)?;
+    style::init_fonts();
+    let draw_err = |e: String| Error::File {
+        path: out.to_path_buf(),
+        reason: format!("drawing the figure failed: {e}"),
+    };
+    match format {
+        Format::Svg => {
+            let mut text = String::new();
+            {
+                let root = SVGBackend::with_string(&mut text, fig.size()).into_drawing_area();
+                root.fill(&WHITE).map_err(|e| draw_err(e.to_string()))?;
+                fig.draw(&root).map_err(|e| draw_err(e.to_string()))?;
+                root.present().map_err(|e| draw_err(e.to_string()))?;
+            }
+            crate::io::write_atomic(out, text.as_bytes())
+        }
+        Format::Png => {
+            // The bitmap backend encodes by extension (through the `image` crate), so the temp
+            // file in the target directory keeps `.png`; it is renamed over `out` when complete.
+            let io = |source| Error::Io {
+                path: out.to_path_buf(),
+                source,
+            };
+            if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+                std::fs::create_dir_all(parent).map_err(io)?;
+            }
+            let name = out.file_name().unwrap_or_default().to_string_lossy();
+            let tmp = out.with_file_name(format!(".{name}.{}.tmp.png", std::process::id()));
+            let written = (|| {
+                let root = BitMapBackend::new(&tmp, fig.size()).into_drawing_area();
+                root.fill(&WHITE).map_err(|e| e.to_string())?;
+                fig.draw(&root).map_err(|e| e.to_string())?;
+                root.present().map_err(|e| e.to_string())
+            })();
+            if let Err(e) = written {
+                let _ = std::fs::remove_file(&tmp);
+                return Err(draw_err(e));
+            }
+            std::fs::rename(&tmp, out).map_err(io)
+        }
+    }
+}

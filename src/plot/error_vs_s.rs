@@ -1,0 +1,120 @@
+//! Helix error e versus the distance along the ray ‖S‖ = s, from DER dynamics series — the seed
+//! paper's Fig. 4(b, c). The instability shows as a jump of e; a series' detected instability
+//! distance s_dyn (when known) is drawn as a dashed vertical line in the series' colour.
+
+use super::records::Series;
+use super::style::{self, FAMILY};
+use super::{DrawResult, Figure};
+use crate::error::{Error, Result};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Render e versus s for every series in `series` (one curve each, legend from the labels).
+pub fn render(series: &[Series], out: &Path) -> Result<()> {
+    if series.is_empty() {
+        return Err(Error::invalid("series", 0, "need at least one series"));
+    }
+    for s in series {
+        if s.rows.is_empty() {
+            return Err(Error::invalid(
+                "series",
+                &s.label,
+                "the series has no samples",
+            ));
+        }
+        if let Some(r) = s
+            .rows
+            .iter()
+            .find(|r| !(r.s.is_finite() && r.error.is_finite()))
+        {
+            return Err(Error::invalid(
+                "series sample",
+                format!("(s = {}, e = {})", r.s, r.error),
+                format!("non-finite sample in series `{}`", s.label),
+            ));
+        }
+    }
+    super::save(&ErrorVsS { series }, out)
+}
+
+struct ErrorVsS<'a> {
+    series: &'a [Series],
+}
+
+impl Figure for ErrorVsS<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1200, 820)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        let all = || self.series.iter().flat_map(|s| s.rows.iter());
+        let s_lo = all().map(|r| r.s).fold(f64::INFINITY, f64::min).min(0.0);
+        let mut s_hi = all().map(|r| r.s).fold(f64::NEG_INFINITY, f64::max);
+        let mut e_hi = all().map(|r| r.error).fold(0.0, f64::max);
+        let e_lo = all().map(|r| r.error).fold(0.0, f64::min);
+        if s_hi.partial_cmp(&s_lo) != Some(std::cmp::Ordering::Greater) {
+            s_hi = s_lo + 1.0;
+        }
+        if e_hi.partial_cmp(&e_lo) != Some(std::cmp::Ordering::Greater) {
+            e_hi = e_lo + 1.0;
+        }
+        let e_hi = e_hi + 0.05 * (e_hi - e_lo);
+
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Helix error along the ray (DER dynamics)",
+                (FAMILY, style::TITLE),
+            )
+            .margin(20)
+            .margin_right(40)
+            .x_label_area_size(80)
+            .y_label_area_size(110)
+            .build_cartesian_2d(s_lo..s_hi, e_lo..e_hi)?;
+        chart
+            .configure_mesh()
+            .x_desc("distance along the ray ‖S‖ = s")
+            .y_desc("helix error e")
+            .axis_desc_style((FAMILY, style::AXIS))
+            .label_style((FAMILY, style::TICK))
+            .x_label_formatter(&style::fmt_tick)
+            .y_label_formatter(&style::fmt_tick)
+            .bold_line_style(style::LIGHT_GREY)
+            .light_line_style(TRANSPARENT)
+            .draw()?;
+
+        for (i, s) in self.series.iter().enumerate() {
+            let c = style::series(i);
+            let label = match s.s_detected {
+                Some(v) => format!("{} (s_dyn = {v:.3})", s.label),
+                None => s.label.clone(),
+            };
+            chart
+                .draw_series(LineSeries::new(
+                    s.rows.iter().map(|r| (r.s, r.error)),
+                    c.stroke_width(3),
+                ))?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x - 4, y), (x + 22, y)], c.stroke_width(3))
+                });
+            if let Some(v) = s.s_detected.filter(|v| v.is_finite()) {
+                chart.draw_series(DashedLineSeries::new(
+                    [(v, e_lo), (v, e_hi)],
+                    10,
+                    6,
+                    c.stroke_width(2),
+                ))?;
+            }
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font((FAMILY, style::LEGEND))
+            .background_style(WHITE.mix(0.9))
+            .border_style(style::GREY)
+            .margin(12)
+            .draw()?;
+        Ok(())
+    }
+}
