@@ -9,7 +9,7 @@ use crate::math::{Mat3, Real};
 /// full product).
 #[inline]
 pub(crate) fn mul_rot_z(m: &Mat3, a: Real) -> Mat3 {
-    let (s, c) = a.sin_cos();
+    let (s, c) = super::kernel::sin_cos(a);
     let c0 = m.column(0);
     let c1 = m.column(1);
     Mat3::from_columns(&[c * c0 + s * c1, c * c1 - s * c0, m.column(2).into_owned()])

@@ -24,8 +24,9 @@
 //!   angle is ω/c ([`EndPose`]).
 //!
 //! # Numerics
-//! Every closed form goes through the stable ratios sin θ/θ, (1−cos θ)/θ², (θ−sin θ)/θ³ of
-//! [`crate::math`], which switch to Taylor series near 0; there is no branch on κ = 0 or τ = 0.
+//! Every closed form goes through the stable ratios sin θ/θ, (1−cos θ)/θ², (θ−sin θ)/θ³ (the
+//! fused [`kernel::screw_ratios`], checked against [`crate::math`]'s `sinc`, `cosc`, `sinc3`),
+//! which switch to Taylor series below |θ| = 1.5; there is no branch on κ = 0 or τ = 0.
 //! κ = 0 (a straight, twisted rod), τ = 0 (a planar arc) and λ → 0 are ordinary points, with
 //! componentwise relative accuracy near λ → 0. Near λ = 2πk the results are accurate to a few
 //! ulps in norm (absolute for frame entries, relative to L for positions); individual entries
@@ -55,11 +56,12 @@ pub mod discrete;
 pub mod end_pose;
 pub mod error_metric;
 mod frames;
+pub mod kernel;
 
 pub use end_pose::EndPose;
 
 use crate::error::{Error, Result};
-use crate::math::{cosc, sinc, sinc3, Mat3, Real, Vec3};
+use crate::math::{Mat3, Real, Vec3};
 
 /// Largest accepted |κ|, |τ|, |ω| (nondimensional). At λ = 10⁶ one ulp of λ is 1.2·10⁻¹⁰ rad,
 /// so the end angle carries about ten correct digits; beyond it the pose is noise.
@@ -174,10 +176,9 @@ impl Helix {
     #[inline]
     pub fn position(&self, s: Real) -> Vec3 {
         let (k, t) = (self.kappa, self.tau);
-        let th = self.lambda * s;
+        let [_, b, d] = kernel::screw_ratios(self.lambda * s);
         let s2 = s * s;
-        let b = cosc(th) * s2;
-        let d = sinc3(th) * s2 * s;
+        let (b, d) = (b * s2, d * s2 * s);
         Vec3::new(k * b, k * t * d, s - k * k * d)
     }
 
@@ -188,11 +189,9 @@ impl Helix {
     #[inline]
     pub fn frenet_and_position(&self, s: Real) -> (Mat3, Vec3) {
         let (k, t) = (self.kappa, self.tau);
-        let th = self.lambda * s;
+        let [a, b, d] = kernel::screw_ratios(self.lambda * s);
         let s2 = s * s;
-        let a = sinc(th) * s;
-        let b = cosc(th) * s2;
-        let d = sinc3(th) * s2 * s;
+        let (a, b, d) = (a * s, b * s2, d * s2 * s);
         let (bkk, btt, bkt) = (b * k * k, b * t * t, b * k * t);
         #[rustfmt::skip]
         let f = Mat3::new(
