@@ -668,6 +668,15 @@ fn bad_input_gives_typed_errors_naming_the_field() {
     }
     assert!(h.end_pose(1.0, 0.5).is_ok());
     assert!(h.end_pose(1.0, -0.999).is_ok());
+    // The validated and unchecked paths agree bit for bit.
+    let c = twist_ratio(0.3).unwrap();
+    assert_eq!(h.end_pose(0.7, 0.3).unwrap(), h.end_pose_unchecked(0.7, c));
+    // Rays: s must be finite and >= 0.
+    let d = helixreach::directions::Direction::new(0.6, 0.0, 0.8).unwrap();
+    for bad in [-1.0, f64::NAN, f64::INFINITY] {
+        assert_eq!(field_of(Helix::on_ray(&d, bad).unwrap_err()), "s");
+    }
+    assert_eq!(field_of(Helix::on_ray(&d, 1e7).unwrap_err()), "kappa");
     let msg = Helix::new(-2.0, 0.0, 0.0).unwrap_err().to_string();
     assert!(msg.contains("kappa") && msg.contains("-2"), "{msg}");
 }
