@@ -48,7 +48,7 @@ impl Direction {
             ));
         }
         let n = (kappa * kappa + tau * tau + omega * omega).sqrt();
-        if !(n > 0.0) || !n.is_finite() {
+        if n <= 0.0 || !n.is_finite() {
             return Err(Error::invalid(
                 "direction",
                 format!("({kappa}, {tau}, {omega})"),
