@@ -33,7 +33,8 @@
 
 use crate::directions::Direction;
 use crate::error::{require_finite, require_positive, Error, Result};
-use crate::math::{rot_z, so3_exp, so3_left_jacobian, tol, Mat3, Real, Vec3};
+use crate::helix::Helix;
+use crate::math::{tol, Real, Vec3};
 use crate::rod::clamp::{clamp_nodes, ClampPlacement, End};
 use crate::rod::params::{twist_ratio, DEFAULT_STRETCH};
 use crate::rod::statics::{self, NewtonParams};
@@ -115,24 +116,6 @@ impl DerBoundaryParams {
     }
 }
 
-/// Closed-form helix (clamp frame: Frenet frame = identity at s = 0, Darboux vector
-/// `w = (0, κ, τ)` in the Frenet frame). Private stand-in for `helixreach::helix`.
-#[derive(Debug, Clone, Copy)]
-struct HelixPose {
-    w: Vec3,
-    tau: Real,
-    twist_rate: Real,
-}
-
-impl HelixPose {
-    fn position(&self, s: Real) -> Vec3 {
-        so3_left_jacobian(&(s * self.w)) * Vec3::new(0.0, 0.0, s)
-    }
-    fn material_frame(&self, s: Real) -> Mat3 {
-        so3_exp(&(s * self.w)) * rot_z((self.twist_rate - self.tau) * s)
-    }
-}
-
 /// The DER rod of one ray, with its buffers (reused across the s evaluations of the ray).
 #[derive(Debug)]
 pub struct DerRay {
@@ -148,6 +131,7 @@ pub struct DerRay {
     evaluations: usize,
     newton_iterations: usize,
     correction: Vec<Real>,
+    correction_s: Real,
     has_correction: bool,
 }
 
@@ -194,6 +178,7 @@ impl DerRay {
             evaluations: 0,
             newton_iterations: 0,
             correction: vec![0.0; 4 * n + 3],
+            correction_s: 1.0,
             has_correction: false,
         })
     }
@@ -216,11 +201,8 @@ impl DerRay {
     /// The discrete helix at distance `s` with the clamps imposed: the Newton start.
     pub fn initial_state(&mut self, s: Real) -> Result<RodState> {
         let [k, t, w] = self.dir.at(s);
-        let hp = HelixPose {
-            w: Vec3::new(0.0, k, t),
-            tau: t,
-            twist_rate: w / self.c,
-        };
+        let hx = Helix::new(k, t, w)?;
+        let twist_rate = w / self.c;
         let n = self.params.n_edges;
         let pl = self.params.clamp;
         let h = pl.edge_length(n, 1.0);
@@ -228,15 +210,15 @@ impl DerRay {
         self.nodes[0] = a;
         self.nodes[1] = b;
         for i in 2..n - 1 {
-            self.nodes[i] = hp.position(pl.node_arclength(n, i, 1.0));
+            self.nodes[i] = hx.position(pl.node_arclength(n, i, 1.0));
         }
-        let end_frame = hp.material_frame(1.0);
+        let end_frame = hx.material_frame(1.0, self.c);
         let t_end: Vec3 = end_frame.column(2).into();
-        let [a, b] = clamp_nodes(pl, End::End, &hp.position(1.0), &t_end, h);
+        let [a, b] = clamp_nodes(pl, End::End, &hx.position(1.0), &t_end, h);
         self.nodes[n - 1] = a;
         self.nodes[n] = b;
         for j in 0..n {
-            self.theta[j] = hp.twist_rate * pl.edge_arclength(n, j, 1.0);
+            self.theta[j] = twist_rate * pl.edge_arclength(n, j, 1.0);
         }
         self.theta[0] = 0.0;
         let mut st =
@@ -244,7 +226,7 @@ impl DerRay {
                 Error::invalid("s", s, "degenerate discrete helix (coincident nodes)")
             })?;
         let m1: Vec3 = end_frame.column(0).into();
-        let th = st.theta_for_director(n - 1, &m1, hp.twist_rate);
+        let th = st.theta_for_director(n - 1, &m1, twist_rate);
         st.set_theta(n - 1, th);
         Ok(st)
     }
@@ -263,9 +245,12 @@ impl DerRay {
         let mut iterations = 0;
         let mut found = None;
         if self.has_correction {
+            // The discrete correction scales like s² (chord shortfall ∝ (λē)², axial strain ∝
+            // force ∝ s²).
+            let scale = (s / self.correction_s).powi(2);
             let mut st = init.clone();
             for k in free.clone() {
-                st.q[k] += self.correction[k];
+                st.q[k] += scale * self.correction[k];
             }
             if st.update_reference() {
                 self.rod.material.stretch = target;
@@ -313,11 +298,15 @@ impl DerRay {
                 }
             }
         };
-        let mu = self.ws.ldlt.smallest_eigenvalue(&self.ws.hess, free, 6);
+        let mu = self
+            .ws
+            .ldlt
+            .smallest_eigenvalue_warm(&self.ws.hess, free, 6, true);
         for (c, (a, b)) in self.correction.iter_mut().zip(st.q.iter().zip(&init.q)) {
             *c = a - b;
         }
         self.has_correction = true;
+        self.correction_s = s;
         self.state = Some(st);
         self.evaluations += 1;
         self.newton_iterations += iterations;
@@ -343,7 +332,18 @@ impl DerRay {
 
     /// Locate s* on this ray (see the module docs).
     pub fn critical_s(&mut self) -> Result<CriticalS> {
+        self.critical_s_from(BRACKET_START, BRACKET_GROWTH)
+    }
+
+    /// Locate s* starting the bracket search at `guess` (e.g. the continuum s*, which the DER
+    /// value approaches as n grows) and growing/shrinking by `growth` > 1 per probe. The result
+    /// does not depend on the guess beyond the tolerance; only the work does.
+    pub fn critical_s_from(&mut self, guess: Real, growth: Real) -> Result<CriticalS> {
         let p = self.params;
+        require_positive("guess", guess)?;
+        if growth.is_nan() || growth <= 1.0 || !growth.is_finite() {
+            return Err(Error::invalid("growth", growth, "must be finite and > 1"));
+        }
         // Exactly on the τ axis the rod stays straight and unloaded: stable for every s.
         if self.dir.kappa == 0.0 && self.dir.omega == 0.0 {
             return Ok(CriticalS {
@@ -354,7 +354,7 @@ impl DerRay {
         // Bracket: [lo, hi] with lo stable (or 0) and hi unstable.
         let (mut lo, mut f_lo) = (0.0, Real::NAN);
         let (mut hi, mut f_hi, mut hi_ok);
-        let mut s = BRACKET_START.min(p.s_max);
+        let mut s = guess.min(p.s_max);
         loop {
             let (stable, f, ok) = self.probe(s)?;
             if !stable {
@@ -368,11 +368,11 @@ impl DerRay {
                     est_error: 0.0,
                 });
             }
-            s = (BRACKET_GROWTH * s).min(p.s_max);
+            s = (growth * s).min(p.s_max);
         }
         if lo == 0.0 {
             // Unstable at the first probe: step down.
-            let mut s = hi / BRACKET_GROWTH;
+            let mut s = hi / growth;
             loop {
                 let (stable, f, ok) = self.probe(s)?;
                 if stable {
@@ -380,7 +380,7 @@ impl DerRay {
                     break;
                 }
                 (hi, f_hi, hi_ok) = (s, f, ok);
-                s /= BRACKET_GROWTH;
+                s /= growth;
                 if s < 1e-3 {
                     return Err(Error::NotConverged {
                         what: "DER boundary bracketing (unstable as s → 0)".into(),

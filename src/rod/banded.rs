@@ -165,11 +165,9 @@ pub struct BandedLdlt {
     cap: usize,
     p: usize,
     m: usize,
-    /// Strict lower band of `L`, same layout as [`BandedSym`] (the diagonal slot is unused).
+    /// Strict lower band of `L` by rows: row `i` at `l[i(p+1) ..]`, slot `t` ↔ column `i − p + t`.
     l: Vec<Real>,
     d: Vec<Real>,
-    /// `L_jk·d_k` for the current column (length p).
-    w: Vec<Real>,
     v: Vec<Real>,
     av: Vec<Real>,
 }
@@ -183,7 +181,6 @@ impl BandedLdlt {
             m: 0,
             l: vec![0.0; cap * (p + 1)],
             d: vec![0.0; cap],
-            w: vec![0.0; p + 1],
             v: vec![0.0; cap],
             av: vec![0.0; cap],
         }
@@ -202,50 +199,64 @@ impl BandedLdlt {
     /// Factor `A[r, r] = L·D·Lᵀ`. On error the factor is unusable (inertia and solves are
     /// meaningless) until the next successful call.
     ///
+    /// Row-oriented ("up-looking"): row `i` of `L` is computed from the rows above it by short
+    /// contiguous dot products (`L` is stored by rows, `p` entries left of the diagonal).
+    ///
     /// # Panics
     /// If `r` exceeds the matrix, the capacity or the bandwidth differs (programming errors).
     pub fn factor(&mut self, a: &BandedSym, r: Range<usize>) -> Result<(), PivotError> {
         let p = self.p;
         assert!(a.p == p && r.end <= a.n && r.len() <= self.cap);
         let m = r.len();
-        let lo = r.start;
+        let lo_r = r.start;
         self.m = m;
         let pp = p + 1;
-        // Copy the block.
-        self.l[..m * pp].copy_from_slice(&a.data[lo * pp..(lo + m) * pp]);
-        // Entries that reach past the block's end are outside the sub-block: zero them.
-        for j in m.saturating_sub(p)..m {
-            for k in (m - j)..pp {
-                self.l[j * pp + k] = 0.0;
+        // Row i of L lives in l[i·pp .. i·pp + p]: slot t ↔ column k = i − p + t (slots with
+        // k < 0 stay zero); u_k = L_ik·d_k is built in place, then divided by d.
+        for i in 0..m {
+            let k0 = i.saturating_sub(p);
+            let t0 = k0 + p - i; // first used slot
+            let row = i * pp;
+            for t in 0..t0 {
+                self.l[row + t] = 0.0;
             }
-        }
-        for j in 0..m {
-            let k0 = j.saturating_sub(p);
-            // w_k = L_jk·d_k for k in k0..j, and d_j.
-            let mut dj = self.l[j * pp];
-            for k in k0..j {
-                let ljk = self.l[k * pp + (j - k)];
-                let wk = ljk * self.d[k];
-                self.w[k - k0] = wk;
-                dj -= ljk * wk;
+            // Gather A[i, k] for k in k0..i (band column k, offset i − k).
+            for k in k0..i {
+                self.l[row + (k + p - i)] = a.data[(lo_r + k) * pp + (i - k)];
             }
-            if dj == 0.0 || !dj.is_finite() {
+            // u_j = A_ij − Σ_{k<j} u_k L_jk, for j = k0..i, using rows j above.
+            for j in k0..i {
+                let tj = j + p - i; // slot of column j in row i
+                                    // Row j's slots: column k ↔ slot k + p − j. Common columns k ∈ [max(k0, j−p), j).
+                let kk0 = k0.max(j.saturating_sub(p));
+                let n_common = j - kk0;
+                if n_common > 0 {
+                    let si = row + (kk0 + p - i);
+                    let sj = j * pp + (kk0 + p - j);
+                    let (ri, rj) = (&self.l[si..si + n_common], &self.l[sj..sj + n_common]);
+                    let mut acc = 0.0;
+                    for (x, y) in ri.iter().zip(rj) {
+                        acc += x * y;
+                    }
+                    self.l[row + tj] -= acc;
+                }
+            }
+            // d_i = A_ii − Σ_k u_k² / d_k, then L_ik = u_k / d_k.
+            let mut di = a.data[(lo_r + i) * pp];
+            for k in k0..i {
+                let t = k + p - i;
+                let u = self.l[row + t];
+                let lik = u / self.d[k];
+                di -= u * lik;
+                self.l[row + t] = lik;
+            }
+            if di == 0.0 || !di.is_finite() {
                 return Err(PivotError {
-                    index: j,
-                    pivot: dj,
+                    index: i,
+                    pivot: di,
                 });
             }
-            self.d[j] = dj;
-            let inv = 1.0 / dj;
-            let imax = (j + p).min(m - 1);
-            for i in (j + 1)..=imax {
-                let mut s = self.l[j * pp + (i - j)];
-                // k ranges over columns where both L_ik and L_jk are in band: k ≥ i − p.
-                for k in i.saturating_sub(p).max(k0)..j {
-                    s -= self.l[k * pp + (i - k)] * self.w[k - k0];
-                }
-                self.l[j * pp + (i - j)] = s * inv;
-            }
+            self.d[i] = di;
         }
         Ok(())
     }
@@ -259,23 +270,27 @@ impl BandedLdlt {
     /// Solve `A[r, r]·x = b` in place (`b` of length `m`).
     pub fn solve_in_place(&self, b: &mut [Real]) {
         let (m, p, pp) = (self.m, self.p, self.p + 1);
-        // L y = b.
-        for j in 0..m {
-            let bj = b[j];
-            for k in 1..=p.min(m - 1 - j) {
-                b[j + k] -= self.l[j * pp + k] * bj;
+        // L y = b (row i: y_i = b_i − Σ_k L_ik y_k).
+        for i in 0..m {
+            let k0 = i.saturating_sub(p);
+            let row = i * pp + (k0 + p - i);
+            let mut s = b[i];
+            for (l, y) in self.l[row..row + (i - k0)].iter().zip(&b[k0..i]) {
+                s -= l * y;
             }
+            b[i] = s;
         }
-        for j in 0..m {
-            b[j] /= self.d[j];
+        for i in 0..m {
+            b[i] /= self.d[i];
         }
-        // Lᵀ x = z.
-        for j in (0..m).rev() {
-            let mut s = b[j];
-            for k in 1..=p.min(m - 1 - j) {
-                s -= self.l[j * pp + k] * b[j + k];
+        // Lᵀ x = z (column sweep from the bottom: x_k −= L_ik x_i).
+        for i in (0..m).rev() {
+            let k0 = i.saturating_sub(p);
+            let row = i * pp + (k0 + p - i);
+            let xi = b[i];
+            for (l, x) in self.l[row..row + (i - k0)].iter().zip(&mut b[k0..i]) {
+                *x -= l * xi;
             }
-            b[j] = s;
         }
     }
 
@@ -284,13 +299,29 @@ impl BandedLdlt {
     /// singular matrix it converges in a few steps (the ratio |λ₁/λ₂| is small). `a` must be
     /// the matrix that was factored. Deterministic start vector.
     pub fn smallest_eigenvalue(&mut self, a: &BandedSym, r: Range<usize>, iters: usize) -> Real {
+        self.smallest_eigenvalue_warm(a, r, iters, false)
+    }
+
+    /// As [`BandedLdlt::smallest_eigenvalue`], starting from the vector of the previous call
+    /// when `warm` (same dimension): along a continuation the eigenvector changes little.
+    pub fn smallest_eigenvalue_warm(
+        &mut self,
+        a: &BandedSym,
+        r: Range<usize>,
+        iters: usize,
+        warm: bool,
+    ) -> Real {
         let m = self.m;
         debug_assert_eq!(r.len(), m);
         let mut v = std::mem::take(&mut self.v);
         let mut av = std::mem::take(&mut self.av);
-        for (i, x) in v[..m].iter_mut().enumerate() {
-            // A smooth, non-symmetric start: overlaps every low mode.
-            *x = 1.0 + 0.37 * ((i as Real) * 0.618).sin();
+        let usable =
+            warm && v[..m].iter().any(|x| *x != 0.0) && v[..m].iter().all(|x| x.is_finite());
+        if !usable {
+            for (i, x) in v[..m].iter_mut().enumerate() {
+                // A smooth, non-symmetric start: overlaps every low mode.
+                *x = 1.0 + 0.37 * ((i as Real) * 0.618).sin();
+            }
         }
         let mut lam = 0.0;
         for _ in 0..iters.max(1) {

@@ -11,7 +11,8 @@
 //! Convergence: the Newton step satisfies `‖Δ‖∞ ≤ step_tol`, or the residual is at the
 //! round-off floor `‖g_f‖∞ ≤ rel_residual_tol·(k_b + ‖g‖∞)` (near a critical point the Hessian
 //! is nearly singular and the step along the critical mode is dominated by round-off, so the
-//! residual criterion is the one that ends the iteration there).
+//! residual criterion is the one that ends the iteration there; an iterate within 10³× that
+//! tolerance is accepted when the next step fails to reduce the residual).
 //!
 //! Stability: the equilibrium is stable iff `H_ff` is positive definite, i.e. the LDLᵀ inertia
 //! has no negative pivot. The factorization used is the one at the converged iterate (the
@@ -25,6 +26,9 @@ use super::workspace::Workspace;
 use crate::error::{Error, Result};
 use crate::math::Real;
 use std::ops::Range;
+
+/// The residual floor accepted when Newton stalls, as a multiple of `rel_residual_tol`.
+const FLOOR_FACTOR: Real = 1e3;
 
 /// Newton controls.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,9 +127,10 @@ pub fn solve(
             if step <= params.step_tol {
                 return Ok(done(ws.ldlt.inertia().1));
             }
-            // Round-off floor: the residual stopped decreasing although the step is not tiny
-            // (near-singular Hessian): accept if it is already small.
-            if it >= 3 && res >= 0.5 * last_res && res <= 1e3 * params.rel_residual_tol * scale {
+            let at_floor = res <= FLOOR_FACTOR * params.rel_residual_tol * scale;
+            // Round-off floor: the residual stopped decreasing fast although the step is not
+            // tiny (near-singular Hessian): accept if it is already small.
+            if it >= 3 && res >= 0.5 * last_res && at_floor {
                 return Ok(done(ws.ldlt.inertia().1));
             }
             last_res = res;
@@ -140,7 +145,7 @@ pub fn solve(
                 if trial.update_reference() {
                     energy::gradient(rod, &trial, &mut ws.grad);
                     let r = inf_norm(&ws.grad[free.clone()]);
-                    if r.is_finite() && (r < res || alpha < 1.0 / 1024.0) {
+                    if r.is_finite() && (r < res || (alpha < 1.0 / 1024.0 && !at_floor)) {
                         accepted = true;
                         break;
                     }
@@ -148,6 +153,11 @@ pub fn solve(
                 alpha *= 0.5;
             }
             if !accepted {
+                if at_floor {
+                    // Near a singular point the step is round-off along the critical mode
+                    // and cannot reduce a residual already at the floor: accept the iterate.
+                    return Ok(done(ws.ldlt.inertia().1));
+                }
                 return Err(Error::NotConverged {
                     what: "DER Newton line search".into(),
                     iterations: it,

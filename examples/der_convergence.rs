@@ -1,0 +1,119 @@
+//! Speed versus error of the DER-statics boundary: for n = 25, 50, 100, 200 edges (both clamp
+//! placements), the time per direction and the max/median relative error of s* against a
+//! reference, over a Fibonacci set of directions on the half-sphere; plus the observed
+//! convergence order.
+//!
+//! ```text
+//! cargo run --release --example der_convergence -- [N_DIRECTIONS] [OUT.csv]
+//! ```
+//! (defaults: 24 directions, `target/der_convergence.csv`). The CSV has the columns
+//! `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` (one row per method and
+//! n) for the speed-versus-error figure; the summary and the orders go to stdout.
+//!
+//! Reference: the Richardson extrapolation `(4·s*_{2N} − s*_N)/3` of the straddling DER at
+//! N = 200, 400 (its own error is O(1/N⁴)-small if the method is second order, which the
+//! printed orders confirm), used until the continuum conjugate-point method is on main.
+//! Rows are sequential on one core; rays stable up to s_max (none in a generic set) are
+//! skipped in the error statistics.
+
+use helixreach::boundary::der::{DerBoundaryParams, DerRay};
+use helixreach::directions::{fibonacci, Direction};
+use helixreach::rod::clamp::ClampPlacement;
+use std::time::Instant;
+
+fn solve(dirs: &[Direction], n: usize, clamp: ClampPlacement, tol: f64) -> (Vec<f64>, f64) {
+    let p = DerBoundaryParams {
+        n_edges: n,
+        tol_rel: tol,
+        clamp,
+        ..Default::default()
+    };
+    let t = Instant::now();
+    let s: Vec<f64> = dirs
+        .iter()
+        .map(|d| {
+            DerRay::new(d, &p)
+                .and_then(|mut r| r.critical_s())
+                .map(|c| c.s_star)
+                .unwrap_or(f64::NAN)
+        })
+        .collect();
+    (s, t.elapsed().as_secs_f64() / dirs.len() as f64)
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    let m = v.len();
+    if m == 0 {
+        return f64::NAN;
+    }
+    if m % 2 == 1 {
+        v[m / 2]
+    } else {
+        0.5 * (v[m / 2 - 1] + v[m / 2])
+    }
+}
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    let nd: usize = args.get(1).map(|a| a.parse()).transpose()?.unwrap_or(24);
+    let out = args
+        .get(2)
+        .cloned()
+        .unwrap_or_else(|| "target/der_convergence.csv".into());
+    let dirs = fibonacci(nd, false)?;
+    let tol = 1e-7;
+    eprintln!("reference: DER n = 200, 400 (Richardson) on {nd} directions …");
+    let (s200, _) = solve(&dirs, 200, ClampPlacement::Straddle, 1e-9);
+    let (s400, _) = solve(&dirs, 400, ClampPlacement::Straddle, 1e-9);
+    let reference: Vec<f64> = s200
+        .iter()
+        .zip(&s400)
+        .map(|(a, b)| (4.0 * b - a) / 3.0)
+        .collect();
+    let mut csv =
+        String::from("method,resolution,time_per_direction_s,max_rel_err,median_rel_err\n");
+    println!(
+        "| method | n | time per direction | max rel. error | median rel. error | median order |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for (name, clamp) in [
+        ("der-statics", ClampPlacement::Straddle),
+        ("der-statics-inside", ClampPlacement::Inside),
+    ] {
+        let mut prev: Option<Vec<f64>> = None;
+        for n in [25usize, 50, 100, 200] {
+            let (s, t) = solve(&dirs, n, clamp, tol);
+            let errs: Vec<f64> = s
+                .iter()
+                .zip(&reference)
+                .filter(|(a, r)| a.is_finite() && r.is_finite())
+                .map(|(a, r)| (a - r).abs() / r)
+                .collect();
+            let max = errs.iter().cloned().fold(0.0, f64::max);
+            let med = median(&mut errs.clone());
+            let order = prev
+                .as_ref()
+                .map(|p| {
+                    let mut o: Vec<f64> = p
+                        .iter()
+                        .zip(&errs)
+                        .filter(|(a, b)| **a > 0.0 && **b > 0.0)
+                        .map(|(a, b)| (a / b).log2())
+                        .collect();
+                    median(&mut o)
+                })
+                .map(|o| format!("{o:.2}"))
+                .unwrap_or_else(|| "–".into());
+            println!(
+                "| {name} | {n} | {:.3} ms | {max:.2e} | {med:.2e} | {order} |",
+                t * 1e3
+            );
+            csv.push_str(&format!("{name},{n},{t:.6e},{max:.6e},{med:.6e}\n"));
+            prev = Some(errs);
+        }
+    }
+    helixreach::io::write_atomic(std::path::Path::new(&out), csv.as_bytes())?;
+    eprintln!("wrote {out}");
+    Ok(())
+}
