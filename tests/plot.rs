@@ -394,7 +394,7 @@ fn boundary3d_renders() {
         &[
             "curvature κ",
             "torsion τ",
-            "twist ω",
+            "twisting moment ω",
             "stable",
             "s*",
             "1 direction stable up to",

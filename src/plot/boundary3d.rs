@@ -190,7 +190,7 @@ enum Face {
 
 impl Figure for Boundary3d {
     fn size(&self) -> (u32, u32) {
-        (1300, 1000)
+        (1300, 1020)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
@@ -235,7 +235,7 @@ impl Figure for Boundary3d {
             y1 = y1.max(y);
         }
         // Plot region (px) left of the colour bar, with room for tick labels and axis titles.
-        let (rx0, rx1, ry0, ry1) = (110.0, 940.0, 80.0, 880.0);
+        let (rx0, rx1, ry0, ry1) = (120.0, 1000.0, 80.0, 830.0);
         cam.scale = ((rx1 - rx0) / (x1 - x0)).min((ry1 - ry0) / (y1 - y0));
         cam.ox = 0.5 * (rx0 + rx1) - cam.scale * 0.5 * (x0 + x1);
         cam.oy = 0.5 * (ry0 + ry1) + cam.scale * 0.5 * (y0 + y1);
@@ -437,10 +437,19 @@ impl Figure for Boundary3d {
             let mut p = fixed;
             p[axis] = 0.5 * (lo[axis] + hi[axis]);
             let (x, y) = cam.px(p);
+            let title = if axis == 2 {
+                // Vertical axis: the title runs upward beside the tick labels.
+                font(style::AXIS)
+                    .transform(FontTransform::Rotate270)
+                    .pos(at(HPos::Center, VPos::Center))
+            } else {
+                font(style::AXIS).pos(at(anchor_h, anchor_v))
+            };
+            let off = if axis == 2 { 75.0 } else { 60.0 };
             root.draw(&Text::new(
                 name.to_string(),
-                (x + (70.0 * dx) as i32, y + (70.0 * dy) as i32),
-                font(style::AXIS).pos(at(anchor_h, anchor_v)),
+                (x + (off * dx) as i32, y + (off * dy) as i32),
+                title,
             ))?;
             let mut a = fixed;
             a[axis] = lo[axis];
@@ -482,11 +491,11 @@ impl Figure for Boundary3d {
             2,
             [edge.0, edge.1, 0.0],
             [cam.r[0], cam.r[1], 0.0],
-            "twist ω",
+            "twisting moment ω",
         )?;
 
         // Colour bar.
-        let (bx0, bx1, by0, by1) = (1150, 1180, 140, 760);
+        let (bx0, bx1, by0, by1) = (1170, 1200, 140, 760);
         for k in 0..(by1 - by0) {
             let t = 1.0 - k as f64 / (by1 - by0) as f64;
             root.draw(&PathElement::new(
@@ -540,7 +549,7 @@ impl Figure for Boundary3d {
         for (k, n) in notes.iter().enumerate() {
             root.draw(&Text::new(
                 n.clone(),
-                (30, 930 + 26 * k as i32),
+                (30, 920 + 28 * k as i32),
                 font(style::LEGEND * 0.85).pos(at(HPos::Left, VPos::Center)),
             ))?;
         }

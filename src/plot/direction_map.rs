@@ -45,8 +45,14 @@ pub fn project(d: &Direction) -> (f64, f64) {
     }
 }
 
-/// Render the direction map of `rows`, marking `marked` directions (may be empty).
-pub fn render(rows: &[ReachRow], marked: &[Direction], out: &Path) -> Result<()> {
+/// Render the direction map of `rows`, marking `marked` directions (may be empty) as black
+/// rings named `marked_label` in the legend (e.g. "experiment's directions").
+pub fn render(
+    rows: &[ReachRow],
+    marked: &[Direction],
+    marked_label: &str,
+    out: &Path,
+) -> Result<()> {
     if rows.is_empty() {
         return Err(Error::invalid(
             "reach rows",
@@ -82,6 +88,7 @@ pub fn render(rows: &[ReachRow], marked: &[Direction], out: &Path) -> Result<()>
         &DirectionMap {
             panels,
             marked: marked.iter().map(project).collect(),
+            marked_label: marked_label.to_string(),
             half,
         },
         out,
@@ -131,6 +138,7 @@ struct Panel {
 struct DirectionMap {
     panels: Vec<Panel>,
     marked: Vec<(f64, f64)>,
+    marked_label: String,
     half: bool,
 }
 
@@ -412,7 +420,7 @@ impl Figure for DirectionMap {
             y += 8;
             root.draw(&Circle::new((lx + 14, y), 10, style::BLACK.stroke_width(2)))?;
             root.draw(&Text::new(
-                format!("experiment's directions ({})", self.marked.len()),
+                format!("{} ({})", self.marked_label, self.marked.len()),
                 (lx + 34, y),
                 font(style::LEGEND).pos(Pos::new(HPos::Left, VPos::Center)),
             ))?;

@@ -119,7 +119,11 @@ impl Cause {
 
 impl FromStr for Cause {
     type Err = String;
+    /// The CSV spelling; an empty field means no cause (`reach` writes none for testable rays).
     fn from_str(s: &str) -> std::result::Result<Self, String> {
+        if s.is_empty() {
+            return Ok(Cause::None);
+        }
         Cause::ALL
             .iter()
             .copied()

@@ -38,6 +38,9 @@ pub struct Args {
     /// (`trajectory`).
     #[arg(long)]
     pub input2: Option<PathBuf>,
+    /// Legend name of the `--input2` directions of `directions`.
+    #[arg(long, default_value = "experiment's directions")]
+    pub marked_label: String,
     /// Legend labels of the `error-vs-s` series, in `--input` order (default: file stems).
     #[arg(long)]
     pub label: Vec<String>,
@@ -75,7 +78,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 Some(p) => helixreach::directions::read_csv(p)?,
                 None => Vec::new(),
             };
-            plot::direction_map::render(&plot::read_reach(input)?, &marked, &args.out)
+            plot::direction_map::render(
+                &plot::read_reach(input)?,
+                &marked,
+                &args.marked_label,
+                &args.out,
+            )
         }
         Kind::Section => {
             let reach = match &args.input2 {
