@@ -16,7 +16,7 @@ pub(crate) fn mul_rot_z(m: &Mat3, a: Real) -> Mat3 {
 }
 
 impl Helix {
-    /// The Frenet frame [N B T](s) = exp(s·ŵ), w = (0, κ, τ). At κ = 0 the normal is undefined
+    /// The Frenet frame \[N B T\](s) = exp(s·ŵ), w = (0, κ, τ). At κ = 0 the normal is undefined
     /// geometrically; by convention it stays the clamp frame's x axis turned by τs about T.
     ///
     /// ```
@@ -33,7 +33,7 @@ impl Helix {
         self.frenet_and_position(s).0
     }
 
-    /// The parallel-transport (Bishop) frame [d1 d2 d3](s) = F(s)·Rz(−τ s): d3 = T, and d1, d2
+    /// The parallel-transport (Bishop) frame \[d1 d2 d3\](s) = F(s)·Rz(−τ s): d3 = T, and d1, d2
     /// do not turn about the tangent. Identity at s = 0.
     ///
     /// ```
@@ -50,7 +50,7 @@ impl Helix {
         mul_rot_z(&self.frenet_frame(s), -self.tau * s)
     }
 
-    /// The material frame [m1 m2 t](s) = Q(s)·Rz((ω/c)·s) for the twist ratio `c` = k_t/k_b
+    /// The material frame \[m1 m2 t\](s) = Q(s)·Rz((ω/c)·s) for the twist ratio `c` = k_t/k_b
     /// (c = 1/(1+ν), see [`twist_ratio`](super::twist_ratio)). `c` must be finite and > 0;
     /// [`Helix::end_pose`] validates it from ν.
     #[inline]

@@ -5,7 +5,7 @@
 //! # The helix as the orbit of a constant screw
 //! A helix (κ, τ, ω) is nondimensional (rod length L = 1, arc length s ∈ [0, 1]). In the Frenet
 //! frame F = [N B T] the Darboux vector is constant, **w = (0, κ, τ)**, and the Frenet–Serret
-//! equations read F′ = F·ŵ (ŵ = [w]×). With the clamp frame chosen so that F(0) = I
+//! equations read F′ = F·ŵ (ŵ = \[w\]×). With the clamp frame chosen so that F(0) = I
 //! (origin at the clamped end, x = N₀, y = B₀, z = T₀, see [`crate::math`] for the matrix
 //! conventions):
 //!
