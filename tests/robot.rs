@@ -312,3 +312,191 @@ fn bad_input_gives_clear_errors() {
     // Rotation angle helper sanity (used by every IK check above).
     assert!(rotation_angle(&Mat3::identity()).abs() < 1e-15);
 }
+
+mod collision {
+    use super::*;
+    use helixreach::robot::collision::{BodyRef, ObstaclePose, ObstacleShape};
+    use helixreach::robot::{CollisionModel, DisabledPairs, RodGeometry, SceneObstacle};
+
+    #[test]
+    fn self_collision_agrees_with_parry_pairwise_queries() {
+        for name in ROBOTS {
+            let m = RobotModel::load(name, None).unwrap();
+            let cm = CollisionModel::for_model(&m).unwrap();
+            let mut ws = cm.workspace();
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            let (mut hits, mut free) = (0, 0);
+            for _ in 0..2000 {
+                let q = m.random_config(&mut rng);
+                cm.update(&q[..m.dof()], &mut ws);
+                let fast = cm.self_collision(&ws);
+                let reference = cm.self_collision_parry(&ws);
+                assert_eq!(fast.is_some(), !reference.is_empty(), "{name} at {q:?}");
+                if let Some(c) = fast {
+                    let (BodyRef::Link(a), BodyRef::Link(b)) = (c.a, c.b) else {
+                        panic!("self contact between non-links")
+                    };
+                    assert!(
+                        reference.contains(&(a, b)),
+                        "{name}: {c:?} not in {reference:?}"
+                    );
+                    hits += 1;
+                } else {
+                    free += 1;
+                }
+            }
+            // The sample exercises both outcomes.
+            assert!(hits > 10 && free > 10, "{name}: {hits} hits, {free} free");
+        }
+    }
+
+    #[test]
+    fn sawyer_home_and_seed_configuration_are_collision_free() {
+        let m = RobotModel::load("sawyer", None).unwrap();
+        let cm = CollisionModel::for_model(&m).unwrap();
+        let mut ws = cm.workspace();
+        for q in [[0.0; 7], SEED_Q] {
+            assert_eq!(cm.check(&q, &mut ws, None), None, "at {q:?}");
+            let c = cm.clearance(&q, &mut ws, None).unwrap();
+            assert!(c.distance > 0.0, "{q:?}: {c:?}");
+        }
+    }
+
+    #[test]
+    fn stored_never_colliding_lists_are_consistent_with_fresh_sampling() {
+        // A pair never in collision over the stored N samples is also never in collision
+        // over a prefix of the same random stream; "always" pairs likewise always collide.
+        for name in ROBOTS {
+            let m = RobotModel::load(name, None).unwrap();
+            let stored = DisabledPairs::for_model(&m).unwrap();
+            assert!(
+                stored.samples >= 20_000,
+                "{name}: {} samples",
+                stored.samples
+            );
+            let fresh = DisabledPairs::compute(&m, 1000, stored.seed).unwrap();
+            for p in &stored.disabled {
+                assert!(
+                    fresh.disabled.contains(p),
+                    "{name}: stored {p:?} contradicted by fresh sampling"
+                );
+            }
+        }
+    }
+
+    fn obstacle(name: &str, shape: ObstacleShape, xyz: [Real; 3]) -> SceneObstacle {
+        SceneObstacle {
+            name: name.into(),
+            shape,
+            pose: ObstaclePose { xyz, rpy: [0.0; 3] },
+        }
+    }
+
+    #[test]
+    fn scene_obstacles_collide_and_clearance_matches_geometry() {
+        let m = RobotModel::load("sawyer", None).unwrap();
+        let q = [0.0; 7];
+        let tip = m.tool_pose(&q).unwrap().pos; // the arm is stretched along +x at home
+        let mut cm = CollisionModel::for_model(&m).unwrap();
+        let mut ws = cm.workspace();
+        // A ball just beyond the tool along +x: the collet cylinder (r 12 mm) ends at the
+        // tip, so the distance to a ball at tip + (d + R) x̂ is d.
+        for d in [0.05, 0.02, 0.003] {
+            let r = 0.03;
+            let ball = obstacle(
+                "ball",
+                ObstacleShape::Sphere { radius: r },
+                [tip.x + d + r, tip.y, tip.z],
+            );
+            cm.set_obstacles(&[ball]).unwrap();
+            cm.update(&q, &mut ws);
+            let c = cm.scene_clearance(&ws).unwrap();
+            assert_eq!(c.b, BodyRef::Obstacle(0));
+            assert_eq!(cm.name(c.a), "right_motor_base");
+            assert!((c.distance - d).abs() < 1e-6, "d {d}: {c:?}");
+            assert_eq!(cm.check(&q, &mut ws, None), None);
+        }
+        let ball = obstacle(
+            "ball",
+            ObstacleShape::Sphere { radius: 0.03 },
+            [tip.x + 0.02, tip.y, tip.z],
+        );
+        cm.set_obstacles(&[ball]).unwrap();
+        let c = cm.check(&q, &mut ws, None).unwrap();
+        assert_eq!(cm.name(c.b), "obstacle ball");
+        // A table top under the pedestal top is hit by nothing at home; a box through the
+        // shoulder is.
+        let table = obstacle(
+            "table",
+            ObstacleShape::Box {
+                half_extents: [0.5, 0.5, 0.02],
+            },
+            [0.85, -0.15, -0.3],
+        );
+        cm.set_obstacles(std::slice::from_ref(&table)).unwrap();
+        assert_eq!(cm.check(&q, &mut ws, None), None);
+        let wall = obstacle(
+            "wall",
+            ObstacleShape::Cylinder {
+                radius: 0.05,
+                half_height: 0.5,
+            },
+            [0.0, 0.0, 0.3],
+        );
+        cm.set_obstacles(&[table, wall]).unwrap();
+        let c = cm.check(&q, &mut ws, None).unwrap();
+        assert_eq!(c.b, BodyRef::Obstacle(1));
+        // Bad obstacles name themselves.
+        let bad = obstacle("post", ObstacleShape::Sphere { radius: -1.0 }, [0.0; 3]);
+        let e = cm.set_obstacles(&[bad]).unwrap_err();
+        assert!(
+            e.to_string().contains("post") && e.to_string().contains("radius"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_rod_collides_with_the_arm_and_its_ends_can_be_ignored() {
+        let m = RobotModel::load("sawyer", None).unwrap();
+        let cm = CollisionModel::for_model(&m).unwrap();
+        let mut ws = cm.workspace();
+        let q = [0.0; 7];
+        let tool = m.tool_pose(&q).unwrap();
+        // A straight rod hanging from the tool along the tool axis (away from the arm).
+        let axis: Vec3 = tool.rot.column(2).into_owned();
+        let nodes: Vec<Vec3> = (0..=50)
+            .map(|i| tool.pos + axis * (0.51 * (1.0 - i as Real / 50.0)))
+            .collect();
+        let rod = |ignore_tool: Real, nodes: &[Vec3]| -> Option<helixreach::robot::Contact> {
+            let r = RodGeometry {
+                nodes,
+                radius: 0.8e-3,
+                ignore_near_tool: ignore_tool,
+                ignore_near_clamp: 0.0,
+                against_scene: false,
+            };
+            let mut ws2 = cm.workspace();
+            cm.check(&q, &mut ws2, Some(&r))
+        };
+        // The last segment ends inside the collet: a hit unless the tool end is ignored.
+        let c = rod(0.0, &nodes).expect("rod end touches the collet");
+        assert_eq!(cm.name(c.b), "right_motor_base");
+        assert_eq!(rod(0.03, &nodes), None);
+        // A rod bent back through the forearm hits it.
+        cm.update(&q, &mut ws);
+        let l4 = m.link_index("right_l4").unwrap();
+        let through = cm.link_frames(&ws)[l4].transform_point(&Vec3::new(0.0, 0.0, 0.15));
+        // Clamp end first: up through the forearm, then over to the hanging rod and the tool.
+        let bent: Vec<Vec3> = [
+            through - Vec3::z() * 0.3,
+            through,
+            through + Vec3::z() * 0.3,
+        ]
+        .into_iter()
+        .chain(nodes.iter().copied())
+        .collect();
+        let c = rod(0.03, &bent).expect("rod through the forearm");
+        assert!(matches!(c.a, BodyRef::Rod(_)));
+        assert_eq!(cm.name(c.b), "right_l4");
+    }
+}

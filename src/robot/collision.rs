@@ -707,49 +707,75 @@ impl CollisionModel {
         rod: Option<&RodGeometry<'_>>,
     ) -> Option<Contact> {
         self.update(q, ws);
+        [
+            self.self_clearance(ws),
+            self.scene_clearance(ws),
+            rod.and_then(|r| self.rod_clearance(ws, r)),
+        ]
+        .into_iter()
+        .flatten()
+        .min_by(|a, b| a.distance.total_cmp(&b.distance))
+    }
+
+    /// Smallest self-collision distance at the posed configuration and its pair.
+    pub fn self_clearance(&self, ws: &CollisionWorkspace) -> Option<Contact> {
+        let mut best: Option<Contact> = None;
+        for &(i, j) in &self.self_pairs {
+            let (i, j) = (i as usize, j as usize);
+            let d =
+                Self::pair_distance(&self.bodies[i], &ws.posed[i], &self.bodies[j], &ws.posed[j]);
+            if best.is_none_or(|c| d < c.distance) {
+                best = Some(Contact {
+                    a: BodyRef::Link(self.bodies[i].link),
+                    b: BodyRef::Link(self.bodies[j].link),
+                    distance: d,
+                });
+            }
+        }
+        best
+    }
+
+    /// Smallest robot–obstacle distance at the posed configuration and its pair.
+    pub fn scene_clearance(&self, ws: &CollisionWorkspace) -> Option<Contact> {
+        let mut best: Option<Contact> = None;
+        for (k, (o, op)) in self.obstacles.iter().zip(&self.obstacle_posed).enumerate() {
+            for (b, p) in self.bodies.iter().zip(&ws.posed) {
+                let d = Self::pair_distance(b, p, o, op);
+                if best.is_none_or(|c| d < c.distance) {
+                    best = Some(Contact {
+                        a: BodyRef::Link(b.link),
+                        b: BodyRef::Obstacle(k),
+                        distance: d,
+                    });
+                }
+            }
+        }
+        best
+    }
+
+    /// Smallest rod distance (to the robot, and the obstacles if asked) and its pair.
+    pub fn rod_clearance(&self, ws: &CollisionWorkspace, rod: &RodGeometry<'_>) -> Option<Contact> {
         let mut best: Option<Contact> = None;
         let mut consider = |a: BodyRef, b: BodyRef, d: Real| {
             if best.is_none_or(|c| d < c.distance) {
                 best = Some(Contact { a, b, distance: d });
             }
         };
-        for &(i, j) in &self.self_pairs {
-            let (i, j) = (i as usize, j as usize);
-            let d =
-                Self::pair_distance(&self.bodies[i], &ws.posed[i], &self.bodies[j], &ws.posed[j]);
-            consider(
-                BodyRef::Link(self.bodies[i].link),
-                BodyRef::Link(self.bodies[j].link),
-                d,
-            );
-        }
-        for (k, (o, op)) in self.obstacles.iter().zip(&self.obstacle_posed).enumerate() {
-            for (b, p) in self.bodies.iter().zip(&ws.posed) {
+        for (i, a, b) in Self::rod_segments(rod) {
+            for (bd, p) in self.bodies.iter().zip(&ws.posed) {
                 consider(
-                    BodyRef::Link(b.link),
-                    BodyRef::Obstacle(k),
-                    Self::pair_distance(b, p, o, op),
+                    BodyRef::Rod(i),
+                    BodyRef::Link(bd.link),
+                    Self::seg_distance(&a, &b, rod.radius, bd, p),
                 );
             }
-        }
-        if let Some(rod) = rod {
-            for (i, a, b) in Self::rod_segments(rod) {
-                for (bd, p) in self.bodies.iter().zip(&ws.posed) {
+            if rod.against_scene {
+                for (k, (o, op)) in self.obstacles.iter().zip(&self.obstacle_posed).enumerate() {
                     consider(
                         BodyRef::Rod(i),
-                        BodyRef::Link(bd.link),
-                        Self::seg_distance(&a, &b, rod.radius, bd, p),
+                        BodyRef::Obstacle(k),
+                        Self::seg_distance(&a, &b, rod.radius, o, op),
                     );
-                }
-                if rod.against_scene {
-                    for (k, (o, op)) in self.obstacles.iter().zip(&self.obstacle_posed).enumerate()
-                    {
-                        consider(
-                            BodyRef::Rod(i),
-                            BodyRef::Obstacle(k),
-                            Self::seg_distance(&a, &b, rod.radius, o, op),
-                        );
-                    }
                 }
             }
         }

@@ -1,6 +1,7 @@
 //! `helixreach robot`: print a robot's chain, joint limits and collision bodies.
 
-use helixreach::robot::{RobotModel, Shape};
+use helixreach::robot::{CollisionModel, DisabledPairs, RobotModel, Shape};
+use std::path::PathBuf;
 
 /// Arguments of `helixreach robot`.
 #[derive(Debug, clap::Args)]
@@ -11,6 +12,16 @@ pub struct Args {
     /// Tool link (default: the robot's tool link).
     #[arg(long)]
     pub tip: Option<String>,
+    /// Recompute the never-colliding link pairs by sampling and write them to this file
+    /// (e.g. robots/sawyer.collision.toml).
+    #[arg(long)]
+    pub write_disabled: Option<PathBuf>,
+    /// Random configurations sampled by --write-disabled.
+    #[arg(long, default_value_t = 50_000)]
+    pub samples: usize,
+    /// Seed of the sampling.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 fn shape_text(s: &Shape) -> String {
@@ -80,5 +91,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for s in m.ignored_geometry() {
         println!("  ignored (not a primitive): {s}");
     }
+    if let Some(path) = &args.write_disabled {
+        let d = DisabledPairs::compute(&m, args.samples, args.seed)?;
+        let name = m.source().strip_prefix("builtin:").unwrap_or(m.source());
+        helixreach::io::write_atomic(path, d.to_toml(name).as_bytes())?;
+        eprintln!(
+            "wrote {} disabled pairs ({} samples) to {}",
+            d.disabled.len(),
+            d.samples,
+            path.display()
+        );
+    }
+    let cm = CollisionModel::for_model(&m)?;
+    let disabled = DisabledPairs::for_model(&m)?;
+    println!(
+        "self-collision: {} body pairs checked; {} link pairs disabled ({} samples)",
+        cm.n_self_pairs(),
+        disabled.disabled.len(),
+        disabled.samples
+    );
     Ok(())
 }
