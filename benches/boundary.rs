@@ -1,11 +1,44 @@
-//! Criterion benchmarks: boundary (placeholder until the issue lands).
-use criterion::{criterion_group, criterion_main, Criterion};
+//! Criterion benchmarks of the continuum boundary: one direction at several tolerances, and a
+//! 1000-direction Fibonacci batch (sequential). The full 58,352-direction timing and the
+//! speed-versus-error table are produced by the CLI (see the README):
+//! `helixreach boundary --method continuum --fibonacci 58352 --tol 1e-8 --out /tmp/b.csv` and
+//! `helixreach boundary --method continuum --fibonacci 2000 --speed-report speed.csv`.
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use helixreach::boundary::continuum::critical_s;
+use helixreach::directions::{fibonacci, Direction};
+use std::hint::black_box;
 
-fn placeholder(c: &mut Criterion) {
-    c.bench_function("boundary_placeholder", |b| {
-        b.iter(|| std::hint::black_box(1.0_f64).sqrt())
-    });
+fn one_direction(c: &mut Criterion) {
+    // The paper's example direction (its Fig. 2b) and the diagonal of its Fig. 2c.
+    let dirs = [
+        ("fig2b", Direction::new(0.594, 0.698, 0.4).unwrap()),
+        ("fig2c", Direction::new(1.0, 1.0, -1.0).unwrap()),
+    ];
+    let mut g = c.benchmark_group("continuum_critical_s");
+    for (name, d) in dirs {
+        for tol in [1e-4, 1e-8, 1e-12] {
+            g.bench_with_input(BenchmarkId::new(name, tol), &tol, |b, &tol| {
+                b.iter(|| critical_s(black_box(&d), tol).unwrap())
+            });
+        }
+    }
+    g.finish();
 }
 
-criterion_group!(benches, placeholder);
+fn lattice(c: &mut Criterion) {
+    let dirs = fibonacci(1000, false).unwrap();
+    let mut g = c.benchmark_group("continuum_lattice");
+    g.sample_size(10);
+    g.bench_function("fibonacci_1000_tol1e-8_sequential", |b| {
+        b.iter(|| {
+            dirs.iter()
+                .map(|d| critical_s(d, 1e-8).unwrap().s_star)
+                .filter(|s| s.is_finite())
+                .sum::<f64>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, one_direction, lattice);
 criterion_main!(benches);

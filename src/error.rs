@@ -48,6 +48,15 @@ pub enum Error {
         /// Last residual.
         residual: f64,
     },
+    /// One item of a sweep failed (its key, e.g. the direction, and the cause).
+    #[error("item {key}: {source}")]
+    Item {
+        /// The item's key fields, comma-separated.
+        key: String,
+        /// The underlying error.
+        #[source]
+        source: Box<Error>,
+    },
     /// An I/O error with the path it concerns.
     #[error("{}: {source}", path.display())]
     Io {

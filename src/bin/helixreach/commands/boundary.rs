@@ -1,10 +1,288 @@
-//! `helixreach boundary` (not implemented yet).
+//! `helixreach boundary`: the stability boundary s* along every direction of a set, written as
+//! CSV (`dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error`, rows in
+//! input order; `s_star = inf` when the ray is stable up to `s_max`). Parallel over directions,
+//! checkpointed, resumable and shardable through `helixreach::sweep::driver`.
+//!
+//! `--speed-report FILE` instead measures time per direction (one thread) and the error against a
+//! tight-tolerance continuum reference, for several resolutions of the chosen method, and writes
+//! `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` (rows of other methods
+//! already in FILE are kept).
+
+use anyhow::{bail, Context};
+use helixreach::boundary::continuum::{self, ContinuumParams, CriticalS};
+use helixreach::directions::{self, Direction};
+use helixreach::math::Real;
+use helixreach::sweep::driver::{self, Shard, SweepOptions};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// The boundary columns, in order.
+pub const HEADER: [&str; 10] = [
+    "dir_kappa",
+    "dir_tau",
+    "dir_omega",
+    "s_star",
+    "kappa",
+    "tau",
+    "omega",
+    "method",
+    "resolution",
+    "est_error",
+];
+
+/// Which stability test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    /// Kirchhoff-rod conjugate-point test (exact reference).
+    Continuum,
+    /// Discrete Elastic Rods statics with `--n-edges` edges.
+    Der,
+}
 
 /// Arguments of `helixreach boundary`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+#[command(group(clap::ArgGroup::new("dirs").required(true).args(["directions", "fibonacci"])))]
+pub struct Args {
+    /// Stability test.
+    #[arg(long, value_enum, default_value = "continuum")]
+    pub method: Method,
+    /// Number of DER edges (method der).
+    #[arg(long, default_value_t = 100)]
+    pub n_edges: usize,
+    /// Directions from a CSV with columns dir_kappa,dir_tau,dir_omega.
+    #[arg(long)]
+    pub directions: Option<PathBuf>,
+    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0.
+    #[arg(long)]
+    pub fibonacci: Option<usize>,
+    /// With --fibonacci: the quarter κ ≥ 0, τ > 0 used by the experiment.
+    #[arg(long, requires = "fibonacci")]
+    pub quarter: bool,
+    /// Poisson's ratio ν (c = 1/(1+ν)); the boundary does not depend on it.
+    #[arg(long, default_value_t = 0.33)]
+    pub nu: Real,
+    /// Relative tolerance on s*.
+    #[arg(long, default_value_t = helixreach::math::tol::S_STAR_REL)]
+    pub tol: Real,
+    /// Scan step of the continuum test (arc length of the unit-direction helix).
+    #[arg(long, default_value_t = continuum::DEFAULT_STEP)]
+    pub step: Real,
+    /// Keep rows of an existing --out and compute only the missing directions.
+    #[arg(long)]
+    pub resume: bool,
+    /// Process only block I (0-based) of N contiguous blocks of the directions.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Seconds between checkpoints of --out.
+    #[arg(long, default_value_t = 10.0)]
+    pub checkpoint_secs: f64,
+    /// Output CSV.
+    #[arg(long, required_unless_present = "speed_report")]
+    pub out: Option<PathBuf>,
+    /// Write a speed-versus-error table for this method to FILE instead of a boundary.
+    #[arg(long)]
+    pub speed_report: Option<PathBuf>,
+}
+
+/// Format a float for CSV: shortest round-trip text, `inf`/`-inf` for infinities.
+pub fn fmt_real(x: Real) -> String {
+    if x == Real::INFINITY {
+        "inf".into()
+    } else if x == Real::NEG_INFINITY {
+        "-inf".into()
+    } else {
+        format!("{x}")
+    }
+}
+
+/// `s·d` with `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
+fn scaled(s: Real, d: Real) -> Real {
+    if d == 0.0 {
+        0.0
+    } else {
+        s * d
+    }
+}
+
+/// The key columns of a direction.
+pub fn dir_key(d: &Direction) -> Vec<String> {
+    vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)]
+}
+
+/// One boundary row.
+fn row(d: &Direction, r: CriticalS, method: &str, resolution: &str) -> Vec<String> {
+    let mut v = dir_key(d);
+    v.extend([
+        fmt_real(r.s_star),
+        fmt_real(scaled(r.s_star, d.kappa)),
+        fmt_real(scaled(r.s_star, d.tau)),
+        fmt_real(scaled(r.s_star, d.omega)),
+        method.to_string(),
+        resolution.to_string(),
+        format!("{:e}", r.est_error),
+    ]);
+    v
+}
+
+/// The direction set the arguments select.
+fn load_directions(a: &Args) -> anyhow::Result<Vec<Direction>> {
+    Ok(match (&a.directions, a.fibonacci) {
+        (Some(p), _) => directions::read_csv(p)?,
+        (None, Some(n)) => directions::fibonacci(n, a.quarter)?,
+        (None, None) => bail!("give --directions FILE.csv or --fibonacci N"),
+    })
+}
+
+/// A solver for one direction: `(s*, resolution label)`.
+type Solver = Box<dyn Fn(&Direction) -> helixreach::Result<CriticalS> + Sync>;
+
+fn solver(
+    method: Method,
+    nu: Real,
+    tol: Real,
+    step: Real,
+    n_edges: usize,
+) -> anyhow::Result<(Solver, String)> {
+    match method {
+        Method::Continuum => {
+            let p = ContinuumParams {
+                nu,
+                tol_rel: tol,
+                step,
+                ..ContinuumParams::default()
+            };
+            p.validate()?;
+            Ok((
+                Box::new(move |d| continuum::critical_s_with(d, &p)),
+                format!("tol={tol:e}"),
+            ))
+        }
+        Method::Der => {
+            let _ = n_edges;
+            bail!(
+                "--method der is not available yet: helixreach::boundary::der::critical_s has not \
+                 landed (use --method continuum)"
+            )
+        }
+    }
+}
+
+fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::Continuum => "continuum",
+        Method::Der => "der",
+    }
+}
 
 /// Run `helixreach boundary`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach boundary` is not implemented yet")
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let dirs = load_directions(&a)?;
+    if let Some(report) = &a.speed_report {
+        return speed_report(&a, &dirs, report);
+    }
+    let out = a.out.clone().context("--out is required")?;
+    if !(a.checkpoint_secs.is_finite() && a.checkpoint_secs >= 0.0) {
+        bail!(
+            "invalid --checkpoint-secs {}: must be >= 0",
+            a.checkpoint_secs
+        );
+    }
+    let (solve, resolution) = solver(a.method, a.nu, a.tol, a.step, a.n_edges)?;
+    let method = method_name(a.method);
+    let mut opts = SweepOptions::new(&out, &HEADER, 3);
+    opts.resume = a.resume;
+    opts.shard = a.shard;
+    opts.checkpoint_interval = Duration::from_secs_f64(a.checkpoint_secs);
+    opts.progress = true;
+    let t0 = Instant::now();
+    let summary = driver::run(
+        &dirs,
+        dir_key,
+        |d| Ok(row(d, solve(d)?, method, &resolution)),
+        &opts,
+    )?;
+    eprintln!(
+        "boundary: {} directions ({} computed, {} resumed) in {:.3} s -> {}",
+        summary.total,
+        summary.computed,
+        summary.resumed,
+        t0.elapsed().as_secs_f64(),
+        out.display()
+    );
+    Ok(())
+}
+
+/// Time per direction (single thread) and error versus a tight continuum reference.
+fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()> {
+    let reference = ContinuumParams {
+        nu: a.nu,
+        tol_rel: 1e-13,
+        step: continuum::DEFAULT_STEP / 4.0,
+        ..ContinuumParams::default()
+    };
+    let s_ref: Vec<Real> = dirs
+        .iter()
+        .map(|d| continuum::critical_s_with(d, &reference).map(|r| r.s_star))
+        .collect::<helixreach::Result<_>>()?;
+    let resolutions: Vec<(Real, usize)> = match a.method {
+        Method::Continuum => [1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
+            .iter()
+            .map(|&t| (t, 0))
+            .collect(),
+        Method::Der => [25, 50, 100, 200].iter().map(|&n| (a.tol, n)).collect(),
+    };
+    let method = method_name(a.method);
+    let mut lines = Vec::new();
+    for (tol, n) in resolutions {
+        let (solve, label) = solver(a.method, a.nu, tol, a.step, n)?;
+        let t0 = Instant::now();
+        let s: Vec<Real> = dirs
+            .iter()
+            .map(|d| solve(d).map(|r| r.s_star))
+            .collect::<helixreach::Result<_>>()?;
+        let per = t0.elapsed().as_secs_f64() / dirs.len() as f64;
+        let mut errs: Vec<Real> = s
+            .iter()
+            .zip(&s_ref)
+            .map(|(&x, &r)| {
+                if x == r {
+                    0.0
+                } else if x.is_finite() && r.is_finite() {
+                    ((x - r) / r).abs()
+                } else {
+                    Real::INFINITY
+                }
+            })
+            .collect();
+        errs.sort_by(|x, y| x.total_cmp(y));
+        let max = *errs.last().unwrap_or(&0.0);
+        let med = errs[errs.len() / 2];
+        eprintln!(
+            "{method} {label}: {:.3e} s/direction, max rel err {max:.3e}, median {med:.3e}",
+            per
+        );
+        lines.push(format!(
+            "{method},{label},{},{},{}",
+            fmt_real(per),
+            fmt_real(max),
+            fmt_real(med)
+        ));
+    }
+    let header = "method,resolution,time_per_direction_s,max_rel_err,median_rel_err";
+    let mut text = String::from(header);
+    text.push('\n');
+    if let Ok(old) = std::fs::read_to_string(path) {
+        for l in old.lines().skip(1) {
+            if !l.starts_with(&format!("{method},")) && !l.is_empty() {
+                text.push_str(l);
+                text.push('\n');
+            }
+        }
+    }
+    for l in lines {
+        text.push_str(&l);
+        text.push('\n');
+    }
+    helixreach::io::write_atomic(path, text.as_bytes())?;
+    Ok(())
 }

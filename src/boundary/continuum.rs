@@ -1,1 +1,0 @@
-//! Continuum (Kirchhoff rod) conjugate-point stability test.
