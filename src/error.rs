@@ -49,13 +49,12 @@ pub enum Error {
         residual: f64,
     },
     /// One item of a sweep failed (its key, e.g. the direction, and the cause).
-    #[error("item {key}: {source}")]
+    #[error("item {key}: {cause}")]
     Item {
         /// The item's key fields, comma-separated.
         key: String,
-        /// The underlying error.
-        #[source]
-        source: Box<Error>,
+        /// The underlying error (displayed inline, so it is not also a `source`).
+        cause: Box<Error>,
     },
     /// An I/O error with the path it concerns.
     #[error("{}: {source}", path.display())]

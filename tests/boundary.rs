@@ -719,3 +719,26 @@ fn cli_bad_input_names_the_problem() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("shard"));
 }
+
+/// The DER-statics boundary (n = 100) agrees with the continuum within the 0.1 % on a
+/// handful of generic directions (the convergence study itself lives with the DER tests).
+#[test]
+fn der_n100_agrees_with_continuum() {
+    use helixreach::boundary::der;
+    let p = der::DerBoundaryParams {
+        n_edges: 100,
+        tol_rel: 1e-8,
+        ..Default::default()
+    };
+    for v in [
+        [0.594, 0.698, 0.4],
+        [1.0, 1.0, -1.0],
+        [0.1, -0.3, 0.9],
+        [0.8, -0.5, 0.6],
+    ] {
+        let d = Direction::new(v[0], v[1], v[2]).unwrap();
+        let c = critical_s(&d, 1e-10).unwrap().s_star;
+        let r = der::critical_s(&d, &p).unwrap().s_star;
+        assert!(((r - c) / c).abs() < 1e-3, "{d:?}: DER {r}, continuum {c}");
+    }
+}

@@ -302,7 +302,7 @@ where
             write_atomic(&opts.out, &to_csv(&opts.header, &rows)?)?;
             return Err(Error::Item {
                 key: keys[i].join(","),
-                source: Box::new(e),
+                cause: Box::new(e),
             });
         }
         if last_checkpoint.elapsed() >= opts.checkpoint_interval && computed < todo.len() {

@@ -3,6 +3,10 @@
 //! input order; `s_star = inf` when the ray is stable up to `s_max`). Parallel over directions,
 //! checkpointed, resumable and shardable through `helixreach::sweep::driver`.
 //!
+//! With `--method der` the DER-statics boundary (`--n-edges N`) is computed instead; its
+//! `resolution` column is `n=N` and `est_error` is the root-finding error only (not the
+//! discretization error).
+//!
 //! `--speed-report FILE` instead measures time per direction (one thread) and the error against a
 //! tight-tolerance continuum reference, for several resolutions of the chosen method, and writes
 //! `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` (rows of other methods
@@ -10,6 +14,7 @@
 
 use anyhow::{bail, Context};
 use helixreach::boundary::continuum::{self, ContinuumParams, CriticalS};
+use helixreach::boundary::der;
 use helixreach::directions::{self, Direction};
 use helixreach::math::Real;
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
@@ -158,11 +163,22 @@ fn solver(
             ))
         }
         Method::Der => {
-            let _ = n_edges;
-            bail!(
-                "--method der is not available yet: helixreach::boundary::der::critical_s has not \
-                 landed (use --method continuum)"
-            )
+            let p = der::DerBoundaryParams {
+                n_edges,
+                nu,
+                tol_rel: tol,
+                ..der::DerBoundaryParams::default()
+            };
+            p.validate()?;
+            Ok((
+                Box::new(move |d| {
+                    der::critical_s(d, &p).map(|r| CriticalS {
+                        s_star: r.s_star,
+                        est_error: r.est_error,
+                    })
+                }),
+                format!("n={n_edges}"),
+            ))
         }
     }
 }
