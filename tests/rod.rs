@@ -523,3 +523,38 @@ fn rod_hessian_inertia_matches_dense_eigenvalues() {
     }
     assert!(saw_unstable);
 }
+
+/// Self-convergence on 20 Fibonacci directions of the half-sphere: the observed order
+/// p = log2((s*₂₅ − s*₅₀)/(s*₅₀ − s*₁₀₀)) has median ≥ 1.8 (second order; the full study against
+/// the continuum is `examples/der_convergence.rs`), and every ray is found (including those
+/// near the τ axis, where the helical branch of the discrete rod ends at a fold).
+#[test]
+fn der_boundary_is_second_order_on_twenty_directions() {
+    let dirs = helixreach::directions::fibonacci(20, false).unwrap();
+    let mut orders = Vec::new();
+    for d in &dirs {
+        let s: Vec<Real> = [25usize, 50, 100]
+            .iter()
+            .map(|&n| {
+                let p = DerBoundaryParams {
+                    n_edges: n,
+                    tol_rel: 1e-9,
+                    ..Default::default()
+                };
+                critical_s(d, &p).unwrap().s_star
+            })
+            .collect();
+        assert!(s.iter().all(|v| v.is_finite() && *v > 1.0), "{d:?}: {s:?}");
+        let (a, b) = (s[0] - s[1], s[1] - s[2]);
+        if b.abs() > 1e-7 * s[2] {
+            orders.push((a / b).abs().log2());
+        }
+    }
+    orders.sort_by(|a, b| a.total_cmp(b));
+    let median = orders[orders.len() / 2];
+    assert!(orders.len() >= 15, "{orders:?}");
+    assert!(
+        median > 1.8 && median < 2.3,
+        "median order {median} ({orders:?})"
+    );
+}

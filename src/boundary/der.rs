@@ -19,6 +19,13 @@
 //! bracket moves and a bisection fallback whenever the bracket fails to halve, until the
 //! bracket width is ≤ `tol_rel·s`. A ray stable at `s_max` returns `s* = ∞`.
 //!
+//! Folds: the discrete clamps and sampling perturb the helix slightly (`O(1/n²)`). Where the
+//! critical mode is antisymmetric the loss of stability stays a clean bifurcation (an
+//! equilibrium with one negative eigenvalue just past s*); where it is symmetric (e.g. near the
+//! τ axis, Euler buckling of the compressed, nearly straight rod) the perturbed branch ends at
+//! a fold and Newton finds no nearby equilibrium past it. A Newton failure therefore counts as
+//! unstable, and [`DerRay::branch_ended`] reports which case ended the search.
+//!
 //! The κ = 0 plane: the helix is the straight rod; on the τ axis it is untwisted and unloaded,
 //! stable for every s, and `s* = ∞` is returned; with ω ≠ 0 it is the twisted clamped rod.
 //!
@@ -133,6 +140,7 @@ pub struct DerRay {
     correction: Vec<Real>,
     correction_s: Real,
     has_correction: bool,
+    branch_ended: bool,
 }
 
 /// The outcome of one evaluation along a ray.
@@ -180,6 +188,7 @@ impl DerRay {
             correction: vec![0.0; 4 * n + 3],
             correction_s: 1.0,
             has_correction: false,
+            branch_ended: false,
         })
     }
 
@@ -318,15 +327,61 @@ impl DerRay {
         })
     }
 
-    /// Stability at s for the root finding: `(stable, surrogate f, verified)`. The surrogate is
-    /// ±|μ| (sign from the inertia). A Newton failure counts as unstable but unverified (past
-    /// s* the helical branch may meet further singular points).
-    fn probe(&mut self, s: Real) -> Result<(bool, Real, bool)> {
+    /// Stability near s for the root finding: `(s_evaluated, stable, surrogate f, verified)`.
+    /// The surrogate is ±|μ| (sign from the inertia).
+    ///
+    /// If Newton fails at s (a jump too far for its basin, which is small near the buckling of
+    /// a nearly straight rod), s is approached by continuation from the last converged s:
+    /// steps that fail are halved, steps that succeed grow by 1.5. An unstable intermediate
+    /// point is returned in place of s. If the continuation stalls (step < 10⁻⁶·s), the probe
+    /// counts as unstable but unverified: when the critical mode is symmetric the
+    /// discretization's imperfection turns the bifurcation into a fold, and the helical branch
+    /// of the discrete rod ends there — the rod snaps.
+    fn probe(&mut self, s: Real) -> Result<(Real, bool, Real, bool)> {
+        let classify = |pt: &RayPoint| {
+            if pt.negative == 0 {
+                (pt.s, true, pt.mu.abs(), true)
+            } else {
+                (pt.s, false, -pt.mu.abs(), true)
+            }
+        };
         match self.evaluate(s) {
-            Ok(pt) if pt.negative == 0 => Ok((true, pt.mu.abs(), true)),
-            Ok(pt) => Ok((false, -pt.mu.abs(), true)),
-            Err(Error::NotConverged { .. }) => Ok((false, Real::NAN, false)),
-            Err(e) => Err(e),
+            Ok(pt) => return Ok(classify(&pt)),
+            Err(Error::NotConverged { .. }) => {}
+            Err(e) => return Err(e),
+        }
+        if !self.has_correction {
+            // No converged point yet: start the continuation from a small, easy s.
+            let s0 = (0.25 * s).min(1.0);
+            match self.evaluate(s0) {
+                Ok(pt) if pt.negative > 0 => return Ok(classify(&pt)),
+                Ok(_) => {}
+                Err(Error::NotConverged { .. }) => return Ok((s, false, Real::NAN, false)),
+                Err(e) => return Err(e),
+            }
+        }
+        let mut a = self.correction_s;
+        let mut step = 0.25 * (s - a);
+        loop {
+            if step.abs() < 1e-6 * s {
+                return Ok((s, false, Real::NAN, false));
+            }
+            let t = if (s - a).abs() <= step.abs() {
+                s
+            } else {
+                a + step
+            };
+            match self.evaluate(t) {
+                Ok(pt) => {
+                    if pt.negative > 0 || t == s {
+                        return Ok(classify(&pt));
+                    }
+                    a = t;
+                    step *= 1.5;
+                }
+                Err(Error::NotConverged { .. }) => step *= 0.5,
+                Err(e) => return Err(e),
+            }
         }
     }
 
@@ -356,12 +411,12 @@ impl DerRay {
         let (mut hi, mut f_hi, mut hi_ok);
         let mut s = guess.min(p.s_max);
         loop {
-            let (stable, f, ok) = self.probe(s)?;
+            let (t, stable, f, ok) = self.probe(s)?;
             if !stable {
-                (hi, f_hi, hi_ok) = (s, f, ok);
+                (hi, f_hi, hi_ok) = (t, f, ok);
                 break;
             }
-            (lo, f_lo) = (s, f);
+            (lo, f_lo) = (t, f);
             if s >= p.s_max {
                 return Ok(CriticalS {
                     s_star: Real::INFINITY,
@@ -374,12 +429,12 @@ impl DerRay {
             // Unstable at the first probe: step down.
             let mut s = hi / growth;
             loop {
-                let (stable, f, ok) = self.probe(s)?;
+                let (t, stable, f, ok) = self.probe(s)?;
                 if stable {
-                    (lo, f_lo) = (s, f);
+                    (lo, f_lo) = (t, f);
                     break;
                 }
-                (hi, f_hi, hi_ok) = (s, f, ok);
+                (hi, f_hi, hi_ok) = (t, f, ok);
                 s /= growth;
                 if s < 1e-3 {
                     return Err(Error::NotConverged {
@@ -394,11 +449,11 @@ impl DerRay {
         let mut side = 0i8;
         let mut width_before = hi - lo;
         let mut iters = 0;
-        while hi - lo > p.tol_rel * lo || !hi_ok {
+        while hi - lo > p.tol_rel * lo {
             iters += 1;
-            if iters > 200 || (hi - lo) < 1e-15 * hi {
+            if iters > 200 {
                 return Err(Error::NotConverged {
-                    what: "DER boundary refinement (no verified unstable end)".into(),
+                    what: "DER boundary refinement".into(),
                     iterations: iters,
                     residual: hi - lo,
                 });
@@ -417,25 +472,32 @@ impl DerRay {
             }
             let margin = (0.25 * p.tol_rel * lo).min(0.25 * w);
             s = s.clamp(lo + margin, hi - margin);
-            let (stable, f, ok) = self.probe(s)?;
+            let (t, stable, f, ok) = self.probe(s)?;
             if stable {
-                (lo, f_lo) = (s, f);
+                (lo, f_lo) = (t, f);
                 if side == -1 {
                     f_hi *= 0.5;
                 }
                 side = -1;
             } else {
-                (hi, f_hi, hi_ok) = (s, f, ok);
+                (hi, f_hi, hi_ok) = (t, f, ok);
                 if side == 1 {
                     f_lo *= 0.5;
                 }
                 side = 1;
             }
         }
+        self.branch_ended = !hi_ok;
         Ok(CriticalS {
             s_star: 0.5 * (lo + hi),
             est_error: 0.5 * (hi - lo),
         })
+    }
+
+    /// Whether the last [`DerRay::critical_s`] ended at a fold: no helical equilibrium was found
+    /// just past s* (Newton failed there), rather than an equilibrium with a negative eigenvalue.
+    pub fn branch_ended(&self) -> bool {
+        self.branch_ended
     }
 }
 
