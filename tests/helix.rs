@@ -531,6 +531,16 @@ fn discrete_transport_handles_parallel_tangents() {
             );
         }
     }
+    // Coarse discretizations of tight helices (turns of up to ~180° per edge) stay proper frames.
+    for n in 1..12 {
+        for &(k, t) in &[(60.0, 0.0), (60.0, 5.0), (3.0 * PI, 0.0)] {
+            let d = DiscreteHelix::new(&Helix::new(k, t, 0.0).unwrap(), n).unwrap();
+            for f in &d.frames {
+                assert!(f.iter().all(|x| x.is_finite()) && orthonormality(f) < 1e-14);
+                assert!((f.determinant() - 1.0).abs() < 1e-14);
+            }
+        }
+    }
     // Exactly antiparallel tangents (a cusp): still a proper frame carried onto −z.
     let f = discrete::transport_frame(&Mat3::identity(), &-Vec3::z());
     assert!(orthonormality(&f) < 1e-15 && (f.determinant() - 1.0).abs() < 1e-15);
@@ -548,6 +558,30 @@ fn discrete_transport_handles_parallel_tangents() {
     assert!((rd.dot(&axis) - d.dot(&axis)).abs() < 1e-14);
     assert!((rd.norm() - d.norm()).abs() < 1e-14);
     assert!((discrete::transport_vector(&a, &a, &b, &Vec3::x()) - b).amax() < 1e-15);
+}
+
+/// The seed paper's discrete parallel transport (its eq. for m1^int), valid only for
+/// non-parallel consecutive tangents.
+fn paper_transport(m1: &Vec3, t0: &Vec3, t1: &Vec3) -> Vec3 {
+    let b = t0.cross(t1) / t0.cross(t1).norm();
+    let m = m1.dot(&t0.cross(&b)) * t1.cross(&b) + m1.dot(&b) * b;
+    m / m.norm()
+}
+
+#[test]
+fn discrete_transport_equals_the_papers_formula_where_it_is_defined() {
+    for &(k, t, n) in &[(5.0, 3.0, 50), (20.0, -15.0, 64), (0.3, 2.0, 10)] {
+        let h = Helix::new(k, t, 0.0).unwrap();
+        let d = DiscreteHelix::new(&h, n).unwrap();
+        let mut m1: Vec3 = d.frames[0].column(0).into_owned();
+        for i in 1..n {
+            m1 = paper_transport(&m1, &d.tangents[i - 1], &d.tangents[i]);
+            let ours = d.frames[i];
+            assert!((ours.column(0) - m1).amax() < 1e-13, "κ={k} τ={t} edge {i}");
+            let m2 = d.tangents[i].cross(&m1);
+            assert!((ours.column(1) - m2).amax() < 1e-13);
+        }
+    }
 }
 
 #[test]
