@@ -16,6 +16,9 @@
 //! only if it lowers `‖e‖`; then `λ` shrinks (toward Gauss–Newton, quadratic convergence to
 //! `1e-10`), otherwise `λ` grows and the step is retried (adaptive damping: robust at
 //! singularities, where `J Jᵀ` loses rank and `λ I` keeps the system definite).
+//! A run that has not halved its error within 10 iterations is abandoned (stalled, typically
+//! against a limit) and the next seed is tried. Optionally ([`IkParams::limit_weighting`]) the
+//! columns of `J` are weighted against joint limits (weighted least norm after Chan & Dubey).
 //!
 //! With the roll free ([`IkTarget::Axis`]), the orientation residual is the rotation vector
 //! `φ` that turns the current tool axis `z` onto `z*`, and the angular rows of `J` are projected
@@ -40,6 +43,9 @@ use crate::math::{rotation_angle, tol, Mat3, Real, Vec3};
 use nalgebra::{Matrix6, Vector6};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+/// Iterations over which a run must halve its error (else it is abandoned as stalled).
+const STALL_WINDOW: usize = 10;
 
 /// What the tool must reach.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -200,6 +206,10 @@ pub struct IkParams {
     pub lock_seeds: usize,
     /// Seed of the random restarts.
     pub rng_seed: u64,
+    /// Weight the step against joint limits (weighted least norm): joints near a limit move
+    /// less. Off by default: it halves the convergence rate from random seeds; useful in
+    /// [`IkSolver::track`] to keep a tracked path away from limits.
+    pub limit_weighting: bool,
     /// Two solutions closer than this in every joint are the same (rad).
     pub dedup_tolerance: Real,
 }
@@ -222,6 +232,7 @@ impl Default for IkParams {
             lock_values: Vec::new(),
             lock_seeds: 4,
             rng_seed: 0,
+            limit_weighting: false,
             dedup_tolerance: 1e-3,
         }
     }
@@ -424,7 +435,16 @@ impl<'a> IkSolver<'a> {
         let mut e = target.residual(&tool, Some(&mut jac));
         let mut err2 = e.norm_squared();
         let mut lambda: Real = 1e-3;
+        let mut checkpoint = err2;
         for it in 0..self.params.max_iterations {
+            // Stall test: a run that has not halved its error in the last `STALL_WINDOW`
+            // iterations is in a local minimum (typically against a limit): restart instead.
+            if it > 0 && it % STALL_WINDOW == 0 {
+                if err2 > 0.25 * checkpoint {
+                    return None;
+                }
+                checkpoint = err2;
+            }
             let (pe, ae) = target.errors(&tool);
             if pe <= tp && ae <= ta {
                 return Some(IkSolution {
@@ -444,7 +464,7 @@ impl<'a> IkSolver<'a> {
             // toward a limit gets weight w = 1 + |∂H/∂q|, H = Σ r²/(4 (u − q)(q − l)); its
             // column is scaled by 1/√w, so the redundant arm moves the other joints instead.
             let mut scale = [1.0; MAX_DOF];
-            for i in 0..n {
+            for i in 0..n * usize::from(self.params.limit_weighting) {
                 let (l, u) = (self.lower[i], self.upper[i]);
                 let (a, b) = ((u - q[i]).max(1e-9), (q[i] - l).max(1e-9));
                 let r = u - l;
