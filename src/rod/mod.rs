@@ -24,6 +24,7 @@
 
 pub mod banded;
 pub mod clamp;
+pub mod dynamics;
 pub mod energy;
 pub mod params;
 pub mod state;

@@ -1,10 +1,189 @@
-//! `helixreach simulate` (not implemented yet).
+//! `helixreach simulate`: DER dynamics along one ray (thin glue over
+//! [`helixreach::rod::dynamics::simulate_ray`]). Writes the series `t,s,kappa,tau,omega,error,
+//! energy` to `--out` (atomically) and prints the detection as JSON on stdout.
+
+use anyhow::Context;
+use helixreach::directions::Direction;
+use helixreach::math::{Real, Vec3};
+use helixreach::rod::dynamics::presets::{Preset, STANDARD_GRAVITY};
+use helixreach::rod::dynamics::{simulate_ray, SimParams, Simulation};
+use helixreach::Error;
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `helixreach simulate`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Search direction κ̂,τ̂,ω̂ (normalized; κ̂ ≥ 0), e.g. `1,1,1`.
+    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', required = true)]
+    direction: Vec<Real>,
+    /// Ray speed v = ds/dt (1/s): s(t) = v·t, with s the nondimensional distance along the ray
+    /// (not the end speed; the mean end speed is reported).
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+    speed: Real,
+    /// Number of edges n (≥ 4).
+    #[arg(long, default_value_t = 40)]
+    n_edges: usize,
+    /// Time step Δt (s).
+    #[arg(long, default_value_t = 2e-3, allow_negative_numbers = true)]
+    dt: Real,
+    /// Gravity g = 9.81 m/s² along −z of the clamp frame (the rod points up, as in the seed rig).
+    #[arg(long)]
+    gravity: bool,
+    /// Gravity vector gx,gy,gz (m/s², clamp frame), instead of --gravity.
+    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', conflicts_with = "gravity")]
+    gravity_vector: Option<Vec<Real>>,
+    /// Jitter magnitude d/L of the imposed end (fraction of the rod length).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    jitter: Real,
+    /// Jitter knot period (s; at least 2·dt).
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+    jitter_period: Real,
+    /// Jitter seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Mass-proportional viscous damping ζ (1/s).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    damping: Real,
+    /// Rod preset: `paper-sim` (E = 1.12 GPa, ν = 0.33, ρ = 1180 kg/m³, L = 1 m,
+    /// h = 0.781 mm) or `nitinol` (L = 0.5 m, 2r = 1.5875 mm, E = 67.5 GPa, ρ = 6450 kg/m³).
+    #[arg(long, default_value = "paper-sim")]
+    preset: String,
+    /// Override Poisson's ratio ν.
+    #[arg(long, allow_negative_numbers = true)]
+    nu: Option<Real>,
+    /// Override Young's modulus E (Pa).
+    #[arg(long, allow_negative_numbers = true)]
+    youngs_modulus: Option<Real>,
+    /// Largest s simulated.
+    #[arg(long, default_value_t = 40.0, allow_negative_numbers = true)]
+    s_max: Real,
+    /// Sample spacing in s.
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    record_ds: Real,
+    /// Output CSV (t,s,kappa,tau,omega,error,energy), written atomically.
+    #[arg(long)]
+    out: PathBuf,
+}
 
 /// Run `helixreach simulate`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach simulate` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let [k, t, w] = <[Real; 3]>::try_from(args.direction.as_slice())
+        .map_err(|_| Error::invalid("direction", format!("{:?}", args.direction), "give K,T,W"))?;
+    let dir = Direction::new(k, t, w)?;
+    let mut rod = Preset::parse(&args.preset)?.rod();
+    if let Some(nu) = args.nu {
+        rod.nu = nu;
+    }
+    if let Some(e) = args.youngs_modulus {
+        rod.youngs_modulus = e;
+    }
+    let gravity = match (&args.gravity_vector, args.gravity) {
+        (Some(g), _) => {
+            let [x, y, z] = <[Real; 3]>::try_from(g.as_slice()).map_err(|_| {
+                Error::invalid("gravity_vector", format!("{g:?}"), "give GX,GY,GZ")
+            })?;
+            Vec3::new(x, y, z)
+        }
+        (None, true) => Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
+        (None, false) => Vec3::zeros(),
+    };
+    let p = SimParams {
+        rod,
+        n_edges: args.n_edges,
+        dt: args.dt,
+        speed: args.speed,
+        gravity,
+        damping: args.damping,
+        jitter: args.jitter,
+        jitter_period: args.jitter_period,
+        seed: args.seed,
+        s_max: args.s_max,
+        record_ds: args.record_ds,
+        ..SimParams::default()
+    };
+    p.validate()?;
+    let bar = progress_bar(args.s_max);
+    let started = std::time::Instant::now();
+    let sim = simulate_ray(&dir, &p, &mut |s| {
+        bar.set_position((s * 100.0) as u64);
+        bar.set_message(format!("{s:.2}"));
+    })?;
+    bar.finish_and_clear();
+    let wall = started.elapsed().as_secs_f64();
+    write_series(&args.out, &sim)?;
+    let json = summary_json(&dir, &p, &sim, wall, &args.preset);
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    serde_json::to_writer_pretty(&mut out, &json)?;
+    writeln!(out)?;
+    out.flush().context("writing to stdout")?;
+    Ok(())
+}
+
+/// A progress bar over s ∈ [0, s_max] on stderr (hidden when stderr is not a terminal).
+pub fn progress_bar(s_max: Real) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new((s_max * 100.0) as u64);
+    bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} s = {msg} ({elapsed})")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// The series as CSV text (header `t,s,kappa,tau,omega,error,energy`).
+pub fn series_csv(sim: &Simulation) -> String {
+    let mut out = String::from("t,s,kappa,tau,omega,error,energy\n");
+    for x in &sim.samples {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{}",
+            x.t, x.s, x.kappa, x.tau, x.omega, x.error, x.energy
+        );
+    }
+    out
+}
+
+fn write_series(path: &Path, sim: &Simulation) -> anyhow::Result<()> {
+    helixreach::io::write_atomic(path, series_csv(sim).as_bytes())?;
+    Ok(())
+}
+
+fn summary_json(
+    dir: &Direction,
+    p: &SimParams,
+    sim: &Simulation,
+    wall: Real,
+    preset: &str,
+) -> serde_json::Value {
+    let finite = |x: Real| if x.is_finite() { Some(x) } else { None };
+    let lgb = p
+        .rod
+        .gravito_bending_length(STANDARD_GRAVITY)
+        .ok()
+        .map(|l| l / p.rod.length);
+    serde_json::json!({
+        "direction": [dir.kappa, dir.tau, dir.omega],
+        "s_dyn": finite(sim.s_dyn()),
+        "detection": sim.detection,
+        "speed_convention": "ray speed ds/dt (1/s)",
+        "speed": p.speed,
+        "mean_end_speed_m_per_s": sim.mean_end_speed,
+        "preset": preset,
+        "rod": p.rod,
+        "lgb_over_l_at_9.81": lgb,
+        "gravity": [p.gravity.x, p.gravity.y, p.gravity.z],
+        "jitter": p.jitter,
+        "n_edges": p.n_edges,
+        "dt": p.dt,
+        "time_unit_s": sim.time_unit,
+        "steps": sim.steps,
+        "newton_iterations": sim.newton_iterations,
+        "substeps": sim.substeps,
+        "stopped_on_failure": sim.stopped_on_failure,
+        "samples": sim.samples.len(),
+        "wall_time_s": wall,
+    })
 }

@@ -1,0 +1,38 @@
+//! Discrete Elastic Rods dynamics (issue 4; DESIGN.md §3; the seed paper §II.B–C, §III.D):
+//! the rod clamped at one end, the other end driven along a ray `(κ, τ, ω) = s·S̄` at finite
+//! speed, integrated in time by implicit Euler, the instability seen as a jump of the helix
+//! error e.
+//!
+//! | module | holds |
+//! |---|---|
+//! | [`presets`] | [`PhysicalRod`] (E, ν, ρ, h, L), the paper's `paper-sim` and `nitinol` rods, the gravito-bending length |
+//! | [`stepper`] | [`Stepper`]: implicit Euler with lumped masses, Newton on the banded system, gravity, damping, moving clamp |
+//! | [`jitter`] | [`Jitter`]: a seeded, smooth random deviation of the imposed end |
+//! | [`ray`] | [`simulate_ray`]: the manipulation along a ray, the recorded series and the detected s_dyn |
+//! | [`detect`] | [`detect::detect`]: the documented instability rule on the series e(s) |
+//!
+//! The elastic energies, their gradient and banded Hessian, the LDLᵀ factorization and the
+//! clamps are the shared ones of [`crate::rod`]; nothing is re-derived here.
+//!
+//! ```
+//! use helixreach::directions::Direction;
+//! use helixreach::rod::dynamics::{simulate_ray, SimParams};
+//! // A fast, coarse run along the κ axis (the arc closes into a circle at s* = 2π): the
+//! // rod loses the helix a little after 2π because of inertia.
+//! let p = SimParams { n_edges: 8, dt: 0.02, speed: 2.0, record_ds: 0.02, ..Default::default() };
+//! let sim = simulate_ray(&Direction::new(1.0, 0.0, 0.0).unwrap(), &p, &mut |_| {}).unwrap();
+//! let s = sim.s_dyn();
+//! assert!(s > 5.5 && s < 9.0, "{s}");
+//! ```
+
+pub mod detect;
+pub mod jitter;
+pub mod presets;
+pub mod ray;
+pub mod stepper;
+pub mod study;
+
+pub use jitter::Jitter;
+pub use presets::{PhysicalRod, Preset};
+pub use ray::{simulate_ray, Sample, SimParams, Simulation};
+pub use stepper::{EndClamp, Stepper, StepperParams};

@@ -1,0 +1,372 @@
+//! The paper's manipulation in silico: the rod's held end driven along a ray
+//! `(κ, τ, ω) = s(t)·S̄` at finite speed, integrated by [`Stepper`], with the helix error e
+//! recorded against s and the instability detected by [`detect`].
+//!
+//! # Speed convention
+//! `speed` is the **ray speed** `v = ds/dt` (nondimensional s per second): `s(t) = v·t`. The
+//! held end then moves at `L·|d r_end/ds|·v` m/s, which varies along the ray (the mean end
+//! speed over a run is reported in [`Simulation::mean_end_speed`]). The ray speed is the
+//! natural parameter of the study because the instability point is a value of s.
+//!
+//! # Set-up
+//! - The rod (n edges, straddling clamps [`ClampPlacement::Straddle`] as in
+//!   [`crate::boundary::der`], so s_dyn → the DER statics s* at the same n as v → 0) starts
+//!   straight along the clamp frame's z axis, untwisted, at rest; the first edge is clamped at
+//!   the origin with the identity frame.
+//! - With gravity, the initial state is first relaxed to the static equilibrium under its
+//!   weight ([`Stepper::relax`]).
+//! - At time t the end clamp is the helix end pose at s(t) ([`crate::helix::Helix::end_pose`]:
+//!   position and material frame, motor angle ω/c included), shifted by the jitter
+//!   ([`Jitter`], position only, magnitude `jitter·L`).
+//! - Samples are recorded every `record_ds` in s: `(t, s, κ, τ, ω, e, E_el)` with e the safe
+//!   helix error ([`crate::helix::error_metric::safe_error`], radius floor
+//!   [`RADIUS_FLOOR`]) of the nodes against the helix at the same arc lengths (nodes 0 and n of
+//!   the straddling clamps sit half an edge outside the rod and are compared with the helix
+//!   continued there).
+//! - The run stops at `s_max`, or once e has stayed above the detection threshold and s has
+//!   advanced by `post_jump·s` past the first crossing (enough samples to confirm the jump).
+
+use super::detect::{detect, DetectParams, Detection};
+use super::jitter::Jitter;
+use super::presets::PhysicalRod;
+use super::stepper::{EndClamp, Stepper, StepperParams};
+use crate::directions::Direction;
+use crate::error::{require_finite, require_positive, Error, Result};
+use crate::helix::error_metric::{safe_error, RADIUS_FLOOR};
+use crate::helix::Helix;
+use crate::math::{Real, Vec3};
+use crate::rod::clamp::{clamp_nodes, ClampPlacement, End};
+use crate::rod::params::twist_ratio;
+use crate::rod::{Rod, RodState};
+
+/// Parameters of one simulated ray (SI units unless stated).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimParams {
+    /// The physical rod.
+    pub rod: PhysicalRod,
+    /// Number of edges n (≥ 4).
+    pub n_edges: usize,
+    /// Time step Δt (s, > 0).
+    pub dt: Real,
+    /// Ray speed v = ds/dt (1/s, > 0; see the module docs).
+    pub speed: Real,
+    /// Gravity vector in the clamp frame (m/s²); zero for none. The seed rig holds the rod
+    /// pointing up, i.e. gravity `(0, 0, −g)`.
+    pub gravity: Vec3,
+    /// Mass-proportional viscous damping ζ (1/s, ≥ 0).
+    pub damping: Real,
+    /// Jitter magnitude d/L (≥ 0).
+    pub jitter: Real,
+    /// Jitter knot period (s, > 0; at least 2Δt so the steps resolve the path).
+    pub jitter_period: Real,
+    /// Jitter seed.
+    pub seed: u64,
+    /// Largest s simulated.
+    pub s_max: Real,
+    /// Sample spacing in s.
+    pub record_ds: Real,
+    /// After e first exceeds the threshold, continue for this fraction of s (≥ 0).
+    pub post_jump: Real,
+    /// The detection rule.
+    pub detect: DetectParams,
+    /// Newton controls.
+    pub stepper: StepperParams,
+}
+
+impl Default for SimParams {
+    /// The paper-sim rod, n = 40, Δt = 2 ms, v = 0.1/s, no gravity, no damping, no jitter
+    /// (period 0.1 s, seed 0), s_max = 40, samples every 0.01, 5 % past the jump.
+    fn default() -> Self {
+        SimParams {
+            rod: PhysicalRod::paper_sim(),
+            n_edges: 40,
+            dt: 2e-3,
+            speed: 0.1,
+            gravity: Vec3::zeros(),
+            damping: 0.0,
+            jitter: 0.0,
+            jitter_period: 0.1,
+            seed: 0,
+            s_max: 40.0,
+            record_ds: 0.01,
+            post_jump: 0.05,
+            detect: DetectParams::default(),
+            stepper: StepperParams::default(),
+        }
+    }
+}
+
+impl SimParams {
+    /// Check every field (errors name the field and value).
+    pub fn validate(&self) -> Result<()> {
+        self.rod.validate()?;
+        if self.n_edges < 4 {
+            return Err(Error::invalid(
+                "n_edges",
+                self.n_edges,
+                "the dynamics needs at least 4 edges",
+            ));
+        }
+        require_positive("dt", self.dt)?;
+        require_positive("speed", self.speed)?;
+        for (f, v) in [
+            ("gravity_x", self.gravity.x),
+            ("gravity_y", self.gravity.y),
+            ("gravity_z", self.gravity.z),
+        ] {
+            require_finite(f, v)?;
+        }
+        for (f, v) in [
+            ("damping", self.damping),
+            ("jitter", self.jitter),
+            ("post_jump", self.post_jump),
+        ] {
+            require_finite(f, v)?;
+            if v < 0.0 {
+                return Err(Error::invalid(f, v, "must be >= 0"));
+            }
+        }
+        if self.jitter >= 0.5 {
+            return Err(Error::invalid(
+                "jitter",
+                self.jitter,
+                "must be < 0.5 (a fraction of the rod length)",
+            ));
+        }
+        require_positive("jitter_period", self.jitter_period)?;
+        if self.jitter > 0.0 && self.dt > 0.5 * self.jitter_period {
+            return Err(Error::invalid(
+                "dt",
+                self.dt,
+                format!(
+                    "must be <= half the jitter period ({} s) to resolve the jitter path",
+                    self.jitter_period
+                ),
+            ));
+        }
+        require_positive("s_max", self.s_max)?;
+        if self.s_max > 1e4 {
+            return Err(Error::invalid("s_max", self.s_max, "must be <= 1e4"));
+        }
+        require_positive("record_ds", self.record_ds)?;
+        self.detect.validate()?;
+        let steps = self.s_max / (self.speed * self.dt);
+        if steps > 1e9 {
+            return Err(Error::invalid(
+                "dt",
+                self.dt,
+                format!("s_max/(speed·dt) = {steps:.3e} steps is too many"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One recorded sample.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Sample {
+    /// Time (s).
+    pub t: Real,
+    /// Distance along the ray.
+    pub s: Real,
+    /// κ = s·κ̂.
+    pub kappa: Real,
+    /// τ = s·τ̂.
+    pub tau: Real,
+    /// ω = s·ω̂.
+    pub omega: Real,
+    /// Helix error e (safe form).
+    pub error: Real,
+    /// Elastic energy (J).
+    pub energy: Real,
+}
+
+/// The result of [`simulate_ray`].
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    /// The recorded series.
+    pub samples: Vec<Sample>,
+    /// The detected instability, if any.
+    pub detection: Option<Detection>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Newton iterations summed over all steps.
+    pub newton_iterations: usize,
+    /// Sub-steps taken (> steps when steps had to be split).
+    pub substeps: usize,
+    /// Mean speed of the held end (m/s) over the run.
+    pub mean_end_speed: Real,
+    /// The time unit T₀ (s) of the nondimensional equations.
+    pub time_unit: Real,
+    /// Whether the run ended early because a step failed after the jump.
+    pub stopped_on_failure: bool,
+}
+
+impl Simulation {
+    /// The detected `s_dyn`, or ∞ when no instability was seen up to `s_max`.
+    pub fn s_dyn(&self) -> Real {
+        self.detection.map_or(Real::INFINITY, |d| d.s_dyn)
+    }
+}
+
+/// Simulate the ray `dir` (see the module docs). `progress(s)` is called after every recorded
+/// sample.
+pub fn simulate_ray(
+    dir: &Direction,
+    p: &SimParams,
+    progress: &mut dyn FnMut(Real),
+) -> Result<Simulation> {
+    p.validate()?;
+    let dir = Direction::new(dir.kappa, dir.tau, dir.omega)?;
+    let phys = p.rod;
+    let n = p.n_edges;
+    let c = twist_ratio(phys.nu)?;
+    let t0 = phys.time_unit();
+    let len = phys.length;
+    let placement = ClampPlacement::Straddle;
+    let h = placement.edge_length(n, 1.0);
+    let rod = Rod::uniform(n, h, phys.nondimensional_material()?)?;
+    // Straight initial rod along z.
+    let nodes: Vec<Vec3> = (0..=n)
+        .map(|i| Vec3::new(0.0, 0.0, placement.node_arclength(n, i, 1.0)))
+        .collect();
+    let [a, b] = clamp_nodes(placement, End::Start, &Vec3::zeros(), &Vec3::z(), h);
+    debug_assert!((a - nodes[0]).norm() < 1e-14 && (b - nodes[1]).norm() < 1e-14);
+    let state = RodState::from_nodes(&nodes, &vec![0.0; n], &Vec3::x())
+        .ok_or_else(|| Error::invalid("n_edges", n, "degenerate initial rod"))?;
+    // Nondimensional weight per length: ρA g L³/k_b.
+    let gscale = phys.linear_density() * len.powi(3) / phys.bending_stiffness();
+    let gravity = p.gravity * gscale;
+    let twist_inertia = 0.5 * phys.slenderness().powi(2);
+    let mut st = Stepper::new(
+        rod,
+        placement,
+        state,
+        twist_inertia,
+        gravity,
+        p.damping * t0,
+        p.stepper,
+    )?;
+    if gravity.norm() > 0.0 {
+        st.relax()?;
+    }
+    let dt = p.dt / t0;
+    let mut jitter = Jitter::new(p.jitter, p.jitter_period, p.seed);
+    let mut helix_nodes = vec![Vec3::zeros(); n + 1];
+    let mut rod_nodes = vec![Vec3::zeros(); n + 1];
+    let arcs: Vec<Real> = (0..=n)
+        .map(|i| placement.node_arclength(n, i, 1.0))
+        .collect();
+    let mut samples = Vec::new();
+    let ekb = phys.bending_stiffness() / len;
+    let mut record = |st: &Stepper, t: Real, s: Real| -> Result<Sample> {
+        let [k, ta, w] = dir.at(s);
+        let hx = Helix::new(k, ta, w)?;
+        for i in 0..=n {
+            helix_nodes[i] = hx.position(arcs[i]);
+            rod_nodes[i] = st.state().node(i);
+        }
+        let e = safe_error(&rod_nodes, &helix_nodes, &hx, 1.0, RADIUS_FLOOR)?;
+        Ok(Sample {
+            t,
+            s,
+            kappa: k,
+            tau: ta,
+            omega: w,
+            error: e,
+            energy: st.elastic_energy() * ekb,
+        })
+    };
+    samples.push(record(&st, 0.0, 0.0)?);
+    progress(0.0);
+    let mut next_record = p.record_ds;
+    let mut first_cross: Option<Real> = None;
+    let (mut steps, mut newton, mut substeps) = (0usize, 0usize, 0usize);
+    let mut stopped_on_failure = false;
+    let mut path_len = 0.0;
+    let mut last_end = Helix::new(0.0, 0.0, 0.0)?.end_pose_unchecked(1.0, c).position;
+    let mut k: u64 = 0;
+    loop {
+        let t_k = k as Real * p.dt;
+        let t_next = (k + 1) as Real * p.dt;
+        let s_next = p.speed * t_next;
+        // The end pose as a function of the fraction of the step. The (smooth) jitter is
+        // evaluated at both ends of the step and interpolated linearly for sub-steps.
+        let (j0, j1) = (jitter.at(t_k), jitter.at(t_next));
+        let end = |lam: Real| -> EndClamp {
+            let s = p.speed * (t_k + lam * p.dt);
+            let [k, ta, w] = dir.at(s);
+            // Helix::new cannot fail for finite, bounded parameters (validated s_max).
+            let hx = Helix::new(k, ta, w).expect("validated helix parameters");
+            let pose = hx.end_pose_unchecked(1.0, c);
+            EndClamp {
+                position: pose.position + j0 + (j1 - j0) * lam,
+                frame: pose.material,
+            }
+        };
+        match st.step(dt, Some(&end)) {
+            Ok(r) => {
+                newton += r.newton_iterations;
+                substeps += r.substeps;
+            }
+            Err(e) => {
+                if first_cross.is_some() {
+                    stopped_on_failure = true;
+                    break;
+                }
+                return Err(e);
+            }
+        }
+        steps += 1;
+        k += 1;
+        let endp = end(1.0).position;
+        path_len += (endp - last_end).norm();
+        last_end = endp;
+        let recorded = s_next + 1e-12 >= next_record;
+        if recorded {
+            let smp = record(&st, t_next, s_next)?;
+            samples.push(smp);
+            progress(s_next);
+            next_record += p.record_ds;
+            if first_cross.is_none() && smp.error >= p.detect.jump {
+                first_cross = Some(s_next);
+            }
+        }
+        if s_next >= p.s_max {
+            break;
+        }
+        if let Some(sc) = first_cross {
+            // Stop once the detector confirms a jump with enough samples after it; re-arm if it
+            // does not (a transient excursion, or noise).
+            if recorded && s_next >= sc * (1.0 + p.post_jump) && samples.len() % 10 == 0 {
+                let (ss, ee): (Vec<Real>, Vec<Real>) =
+                    samples.iter().map(|x| (x.s, x.error)).unzip();
+                match detect(&ss, &ee, &p.detect)? {
+                    Some(d) if samples.len() - d.jump_index > p.detect.persist + p.detect.window => {
+                        break
+                    }
+                    Some(_) => {}
+                    None => first_cross = None,
+                }
+            }
+        }
+    }
+    let s_series: Vec<Real> = samples.iter().map(|x| x.s).collect();
+    let e_series: Vec<Real> = samples.iter().map(|x| x.error).collect();
+    let detection = detect(&s_series, &e_series, &p.detect)?;
+    let total_t = steps as Real * p.dt;
+    Ok(Simulation {
+        samples,
+        detection,
+        steps,
+        newton_iterations: newton,
+        substeps,
+        mean_end_speed: if total_t > 0.0 {
+            path_len * len / total_t
+        } else {
+            0.0
+        },
+        time_unit: t0,
+        stopped_on_failure,
+    })
+}
