@@ -68,14 +68,22 @@ impl DetectParams {
     pub fn validate(&self) -> Result<()> {
         crate::error::require_positive("jump", self.jump)?;
         if self.window == 0 || self.window % 2 == 0 {
-            return Err(Error::invalid("window", self.window, "must be odd and >= 1"));
+            return Err(Error::invalid(
+                "window",
+                self.window,
+                "must be odd and >= 1",
+            ));
         }
         crate::error::require_positive("onset_factor", self.onset_factor)?;
         if !(self.rise > 1.0 && self.rise.is_finite()) {
             return Err(Error::invalid("rise", self.rise, "must be finite and > 1"));
         }
-        if !(self.onset_factor > 1.0) {
-            return Err(Error::invalid("onset_factor", self.onset_factor, "must be > 1"));
+        if self.onset_factor <= 1.0 {
+            return Err(Error::invalid(
+                "onset_factor",
+                self.onset_factor,
+                "must be > 1",
+            ));
         }
         if !(self.lead >= 0.0 && self.lead < 0.5) {
             return Err(Error::invalid("lead", self.lead, "must lie in [0, 0.5)"));
@@ -168,7 +176,7 @@ pub fn detect(s: &[Real], e: &[Real], p: &DetectParams) -> Result<Option<Detecti
         ));
     }
     for (k, (&sk, &ek)) in s.iter().zip(e).enumerate() {
-        if !sk.is_finite() || !(ek.is_finite() && ek >= 0.0) {
+        if !(sk.is_finite() && ek.is_finite() && ek >= 0.0) {
             return Err(Error::invalid(
                 format!("series[{k}]"),
                 format!("s = {sk}, e = {ek}"),

@@ -77,7 +77,10 @@ mod tests {
             assert!((p - last).norm() <= 0.6 * 1e-3 * 1.0001);
             last = p;
         }
-        assert!((j.at(0.5).norm() - 0.02).abs() < 1e-12, "knots have magnitude d");
+        assert!(
+            (j.at(0.5).norm() - 0.02).abs() < 1e-12,
+            "knots have magnitude d"
+        );
         assert_eq!(j.at(0.73), k.at(0.73));
     }
 }

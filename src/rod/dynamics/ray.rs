@@ -284,7 +284,9 @@ pub fn simulate_ray(
     let (mut steps, mut newton, mut substeps) = (0usize, 0usize, 0usize);
     let mut stopped_on_failure = false;
     let mut path_len = 0.0;
-    let mut last_end = Helix::new(0.0, 0.0, 0.0)?.end_pose_unchecked(1.0, c).position;
+    let mut last_end = Helix::new(0.0, 0.0, 0.0)?
+        .end_pose_unchecked(1.0, c)
+        .position;
     let mut k: u64 = 0;
     loop {
         let t_k = k as Real * p.dt;
@@ -342,7 +344,9 @@ pub fn simulate_ray(
                 let (ss, ee): (Vec<Real>, Vec<Real>) =
                     samples.iter().map(|x| (x.s, x.error)).unzip();
                 match detect(&ss, &ee, &p.detect)? {
-                    Some(d) if samples.len() - d.jump_index > p.detect.persist + p.detect.window => {
+                    Some(d)
+                        if samples.len() - d.jump_index > p.detect.persist + p.detect.window =>
+                    {
                         break
                     }
                     Some(_) => {}

@@ -47,6 +47,17 @@ use crate::rod::clamp::{self, ClampPlacement, End};
 use crate::rod::energy;
 use crate::rod::{Rod, RodState, Workspace};
 
+/// A Newton step is halved when it multiplies the residual `‖r‖∞` by more than this. Not 1:
+/// with a stiff stretching term the first step from a straight rod raises the (badly scaled)
+/// residual by orders of magnitude through the axial strain it induces, and the next step
+/// removes it; halving there stalls.
+pub const BACKTRACK_GROWTH: Real = 1e4;
+
+/// Proximal time step of [`Stepper::relax`] (nondimensional time).
+pub const RELAX_STEP: Real = 0.1;
+/// Maximum proximal steps of [`Stepper::relax`].
+pub const RELAX_MAX_STEPS: usize = 2000;
+
 /// The pose imposed on the last clamped edge: the rod's end point and material frame
 /// `[m¹ m² t]` (columns), nondimensional (L = 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -149,7 +160,11 @@ impl Stepper {
             ));
         }
         if let Some(k) = state.q.iter().position(|v| !v.is_finite()) {
-            return Err(Error::invalid(format!("q[{k}]"), state.q[k], "must be finite"));
+            return Err(Error::invalid(
+                format!("q[{k}]"),
+                state.q[k],
+                "must be finite",
+            ));
         }
         require_positive("twist_inertia_ratio", twist_inertia_ratio)?;
         for (f, v) in [
@@ -238,7 +253,8 @@ impl Stepper {
     /// Kinetic energy `½ q̇ᵀ M q̇` of the free DOFs.
     pub fn kinetic_energy(&self) -> Real {
         let f = self.rod.free_range_clamped();
-        0.5 * f.map(|k| self.mass[k] * self.vel[k] * self.vel[k])
+        0.5 * f
+            .map(|k| self.mass[k] * self.vel[k] * self.vel[k])
             .sum::<Real>()
     }
 
@@ -267,23 +283,47 @@ impl Stepper {
         Ok(())
     }
 
-    /// Static equilibrium under the external force with the clamps as they are (Newton, no
-    /// inertia). Returns the number of negative eigenvalues of the free Hessian there
-    /// (0 ⇔ stable). Velocity is reset to zero.
+    /// Static equilibrium under the external force with the clamps as they are. Velocity is
+    /// reset to zero. Returns the number of negative eigenvalues of the free Hessian there
+    /// (0 ⇔ stable).
+    ///
+    /// A sequence of proximal steps (implicit Euler from rest with the time step
+    /// [`RELAX_STEP`]: each minimizes `E − Fᵀq + ½‖q − q_k‖²_M/τ²`, so it converges from any
+    /// start towards a local minimum) until the change is below `step_tol`, then a plain Newton
+    /// polish (kept only if it converges).
     pub fn relax(&mut self) -> Result<usize> {
+        let a = 1.0 / (RELAX_STEP * RELAX_STEP);
+        for _ in 0..RELAX_MAX_STEPS {
+            self.sub_start.copy_from(&self.state);
+            self.target.copy_from_slice(&self.state.q);
+            self.newton(a, 0.0)?;
+            let change = self
+                .state
+                .q
+                .iter()
+                .zip(&self.sub_start.q)
+                .fold(0.0, |m: Real, (x, y)| m.max((x - y).abs()));
+            if change <= self.params.step_tol {
+                break;
+            }
+        }
+        self.sub_start.copy_from(&self.state);
         self.target.copy_from_slice(&self.state.q);
-        self.newton(0.0, 0.0)?;
+        if self.newton(0.0, 0.0).is_err() {
+            self.state.copy_from(&self.sub_start);
+        }
         self.vel.iter_mut().for_each(|v| *v = 0.0);
-        Ok(self.ws.ldlt.inertia().1)
+        energy::hessian(&self.rod, &self.state, &mut self.ws.hess);
+        let free = self.rod.free_range_clamped();
+        match self.ws.ldlt.factor(&self.ws.hess, free) {
+            Ok(()) => Ok(self.ws.ldlt.inertia().1),
+            Err(_) => Ok(1),
+        }
     }
 
     /// Advance by `dt` (> 0, nondimensional). `end(λ)` gives the pose of the last clamped edge
     /// at the fraction λ ∈ (0, 1] of the step (λ = 1: the end of the step); `None` holds it.
-    pub fn step(
-        &mut self,
-        dt: Real,
-        end: Option<&dyn Fn(Real) -> EndClamp>,
-    ) -> Result<StepReport> {
+    pub fn step(&mut self, dt: Real, end: Option<&dyn Fn(Real) -> EndClamp>) -> Result<StepReport> {
         require_positive("dt", dt)?;
         self.start.copy_from(&self.state);
         self.start_vel.copy_from_slice(&self.vel);
@@ -416,7 +456,7 @@ impl Stepper {
                     residual: res,
                 });
             }
-            if have_base && res >= base_res && alpha > 1.0 / 64.0 {
+            if have_base && res >= BACKTRACK_GROWTH * base_res && alpha > 1.0 / 64.0 {
                 // The last step made things worse: halve it from the base.
                 alpha *= 0.5;
                 self.state.copy_from(&self.base);
@@ -452,7 +492,9 @@ impl Stepper {
                 self.ws.step[k] = -self.ws.grad[lo + k];
             }
             self.ws.ldlt.solve_in_place(&mut self.ws.step[..m]);
-            let step = self.ws.step[..m].iter().fold(0.0, |s: Real, v| s.max(v.abs()));
+            let step = self.ws.step[..m]
+                .iter()
+                .fold(0.0, |s: Real, v| s.max(v.abs()));
             self.base.copy_from(&self.state);
             have_base = true;
             for k in 0..m {

@@ -144,4 +144,3 @@ pub fn run_study(
         })
         .collect())
 }
-

@@ -79,12 +79,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let runs = run_study(&base, &factors, &|| bar.inc(1))?;
     bar.finish_and_clear();
-    std::fs::create_dir_all(&args.out)
-        .map_err(|source| helixreach::Error::Io { path: args.out.clone(), source })?;
+    std::fs::create_dir_all(&args.out).map_err(|source| helixreach::Error::Io {
+        path: args.out.clone(),
+        source,
+    })?;
     let base_s = runs
         .iter()
         .find(|r| r.factor == Factor::Jitter && r.value == 0.0)
-        .or_else(|| runs.iter().find(|r| r.factor == Factor::Nu && r.value == base.rod.nu))
+        .or_else(|| {
+            runs.iter()
+                .find(|r| r.factor == Factor::Nu && r.value == base.rod.nu)
+        })
         .and_then(|r| r.sim.as_ref().ok())
         .map(|s| s.s_dyn());
     let mut summary = String::from("factor,value,s_dyn,s_cross,shift_rel\n");

@@ -16,7 +16,12 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Search direction κ̂,τ̂,ω̂ (normalized; κ̂ ≥ 0), e.g. `1,1,1`.
-    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', required = true)]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_delimiter = ',',
+        required = true
+    )]
     direction: Vec<Real>,
     /// Ray speed v = ds/dt (1/s): s(t) = v·t, with s the nondimensional distance along the ray
     /// (not the end speed; the mean end speed is reported).
@@ -32,7 +37,12 @@ pub struct Args {
     #[arg(long)]
     gravity: bool,
     /// Gravity vector gx,gy,gz (m/s², clamp frame), instead of --gravity.
-    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', conflicts_with = "gravity")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_delimiter = ',',
+        conflicts_with = "gravity"
+    )]
     gravity_vector: Option<Vec<Real>>,
     /// Jitter magnitude d/L of the imposed end (fraction of the rod length).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
@@ -81,9 +91,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let gravity = match (&args.gravity_vector, args.gravity) {
         (Some(g), _) => {
-            let [x, y, z] = <[Real; 3]>::try_from(g.as_slice()).map_err(|_| {
-                Error::invalid("gravity_vector", format!("{g:?}"), "give GX,GY,GZ")
-            })?;
+            let [x, y, z] = <[Real; 3]>::try_from(g.as_slice())
+                .map_err(|_| Error::invalid("gravity_vector", format!("{g:?}"), "give GX,GY,GZ"))?;
             Vec3::new(x, y, z)
         }
         (None, true) => Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
