@@ -10,13 +10,14 @@
 //! `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` (one row per method and
 //! n) for the speed-versus-error figure; the summary and the orders go to stdout.
 //!
-//! Reference: the Richardson extrapolation `(4·s*_{2N} − s*_N)/3` of the straddling DER at
-//! N = 200, 400 (its own error is O(1/N⁴)-small if the method is second order, which the
-//! printed orders confirm), used until the continuum conjugate-point method is on main.
-//! Rows are sequential on one core; rays stable up to s_max (none in a generic set) are
-//! skipped in the error statistics.
+//! Reference: the continuum conjugate-point method (`boundary::continuum`, tol 1e-10).
+//! The DER search is seeded by the continuum s* (the default; the time includes it). Rows are
+//! sequential on one core; rays stable up to s_max (none in a generic set) are skipped in the
+//! error statistics. The `der-statics-richardson-m` rows combine n = m and 2m as
+//! `(4·s*_{2m} − s*_m)/3` (time = both solves).
 
-use helixreach::boundary::der::{DerBoundaryParams, DerRay};
+use helixreach::boundary::continuum;
+use helixreach::boundary::der::{critical_s, DerBoundaryParams};
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::rod::clamp::ClampPlacement;
 use std::time::Instant;
@@ -31,12 +32,7 @@ fn solve(dirs: &[Direction], n: usize, clamp: ClampPlacement, tol: f64) -> (Vec<
     let t = Instant::now();
     let s: Vec<f64> = dirs
         .iter()
-        .map(|d| {
-            DerRay::new(d, &p)
-                .and_then(|mut r| r.critical_s())
-                .map(|c| c.s_star)
-                .unwrap_or(f64::NAN)
-        })
+        .map(|d| critical_s(d, &p).map(|c| c.s_star).unwrap_or(f64::NAN))
         .collect();
     (s, t.elapsed().as_secs_f64() / dirs.len() as f64)
 }
@@ -63,20 +59,27 @@ fn main() -> anyhow::Result<()> {
         .unwrap_or_else(|| "target/der_convergence.csv".into());
     let dirs = fibonacci(nd, false)?;
     let tol = 1e-7;
-    eprintln!("reference: DER n = 200, 400 (Richardson) on {nd} directions …");
-    let (s200, _) = solve(&dirs, 200, ClampPlacement::Straddle, 1e-9);
-    let (s400, _) = solve(&dirs, 400, ClampPlacement::Straddle, 1e-9);
-    let reference: Vec<f64> = s200
+    eprintln!("reference: continuum conjugate points (tol 1e-10) on {nd} directions …");
+    let t0 = Instant::now();
+    let reference: Vec<f64> = dirs
         .iter()
-        .zip(&s400)
-        .map(|(a, b)| (4.0 * b - a) / 3.0)
+        .map(|d| {
+            continuum::critical_s(d, 1e-10)
+                .map(|c| c.s_star)
+                .unwrap_or(f64::NAN)
+        })
         .collect();
+    let t_cont = t0.elapsed().as_secs_f64() / nd as f64;
     let mut csv =
         String::from("method,resolution,time_per_direction_s,max_rel_err,median_rel_err\n");
     println!(
         "| method | n | time per direction | max rel. error | median rel. error | median order |"
     );
     println!("|---|---|---|---|---|---|");
+    println!(
+        "| continuum (reference) | tol 1e-10 | {:.4} ms | – | – | – |",
+        t_cont * 1e3
+    );
     let mut straddle: Vec<(usize, Vec<f64>, f64)> = Vec::new();
     for (name, clamp) in [
         ("der-statics", ClampPlacement::Straddle),
@@ -120,9 +123,6 @@ fn main() -> anyhow::Result<()> {
     // Richardson extrapolation in n of the straddling DER, (4·s*_{2m} − s*_m)/3: O(1/n⁴) at
     // the cost of the two resolutions.
     for w in straddle.windows(2) {
-        if w[1].0 > 100 {
-            continue; // n = 200 is part of the reference itself
-        }
         let (m, n2) = (w[0].0, w[1].0);
         let t = w[0].2 + w[1].2;
         let mut errs: Vec<f64> = w[0]

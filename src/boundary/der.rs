@@ -26,6 +26,10 @@
 //! a fold and Newton finds no nearby equilibrium past it. A Newton failure therefore counts as
 //! unstable, and [`DerRay::branch_ended`] reports which case ended the search.
 //!
+//! [`critical_s`] seeds the bracket search with the continuum s* (`continuum_seed`, default):
+//! the DER value differs from it by `O(1/n²)`, so the bracket is found in one or two probes
+//! instead of a geometric search from s = 4. The result does not depend on the seed.
+//!
 //! The κ = 0 plane: the helix is the straight rod; on the τ axis it is untwisted and unloaded,
 //! stable for every s, and `s* = ∞` is returned; with ω ≠ 0 it is the twisted clamped rod.
 //!
@@ -54,21 +58,16 @@ const STRETCH_STEP: Real = 10.0;
 
 /// Newton iterations allowed from the predicted start before falling back.
 const PREDICTED_MAX_ITERS: usize = 5;
+/// The seeded search starts this fraction below the continuum s*.
+const SEED_BELOW: Real = 0.985;
+/// Growth factor per probe of the seeded search.
+const SEED_GROWTH: Real = 1.02;
 /// First s probed when bracketing s*.
 const BRACKET_START: Real = 4.0;
 /// Growth factor of s while bracketing.
 const BRACKET_GROWTH: Real = 1.5;
 
-/// The critical distance along a ray (shared shape with the continuum method).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CriticalS {
-    /// Distance `s*` along the unit direction at which the helix loses stability;
-    /// `f64::INFINITY` if it is stable up to `s_max`.
-    pub s_star: Real,
-    /// Estimated absolute error of `s_star` from the root finding (half the final bracket; 0
-    /// when infinite). The discretization error (`O(1/n²)`, see the README) is not included.
-    pub est_error: Real,
-}
+pub use super::continuum::CriticalS;
 
 /// Parameters of the DER-statics boundary.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,11 +84,15 @@ pub struct DerBoundaryParams {
     pub stretch: Real,
     /// Clamped-edge placement (default [`ClampPlacement::Straddle`], `O(1/n²)`).
     pub clamp: ClampPlacement,
+    /// Start the bracket search at the continuum s* (microseconds to compute), which the DER
+    /// value approaches as n grows. Only the work depends on it, not the result: the DER
+    /// predicate alone decides the bracket. Default true.
+    pub continuum_seed: bool,
 }
 
 impl Default for DerBoundaryParams {
     /// n = 100, ν = 0.33, tol_rel = 1e-8, s_max = [`tol::S_MAX`], stretch =
-    /// [`DEFAULT_STRETCH`], straddling clamps.
+    /// [`DEFAULT_STRETCH`], straddling clamps, continuum seed.
     fn default() -> Self {
         DerBoundaryParams {
             n_edges: 100,
@@ -98,6 +101,7 @@ impl Default for DerBoundaryParams {
             s_max: tol::S_MAX,
             stretch: DEFAULT_STRETCH,
             clamp: ClampPlacement::Straddle,
+            continuum_seed: true,
         }
     }
 }
@@ -506,5 +510,13 @@ impl DerRay {
 /// Errors: invalid parameters (n < 4, ν ∉ (−1, 0.5], tol_rel ≤ 0, non-finite values), an
 /// invalid direction (NaN, zero, κ < 0), or a Newton failure.
 pub fn critical_s(dir: &Direction, params: &DerBoundaryParams) -> Result<CriticalS> {
-    DerRay::new(dir, params)?.critical_s()
+    let mut ray = DerRay::new(dir, params)?;
+    if params.continuum_seed {
+        if let Ok(c) = super::continuum::critical_s(&ray.dir, 1e-6) {
+            if c.s_star.is_finite() && c.s_star < params.s_max {
+                return ray.critical_s_from(SEED_BELOW * c.s_star, SEED_GROWTH);
+            }
+        }
+    }
+    ray.critical_s()
 }
