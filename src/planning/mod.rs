@@ -3,9 +3,27 @@
 //! | module | holds |
 //! |---|---|
 //! | [`rig`] | the rig TOML schema, its validation, embedded rigs |
+//! | [`pose_path`] | a ray (S̄, α) as rod-end poses in the base frame, adaptive in s |
 //! | [`ladder`] | the layered graph of IK solutions and its forward dynamic programming |
+//! | [`planner`] | rungs of IK solutions (track mode), pruning, edges, the plan of one ray |
 //! | [`trajectory`] | time parametrization and the CSV / JSON writers |
+//!
+//! The whole pipeline of one ray:
+//!
+//! ```no_run
+//! use helixreach::planning::{planner::Planner, rig::{Rig, RollMode}};
+//! use helixreach::directions::Direction;
+//! let planner = Planner::new(Rig::load("sawyer-seed")?)?;
+//! let dir = Direction::new(0.5, 0.5, 0.7)?;
+//! let s_star = helixreach::boundary::continuum::critical_s(&dir, 1e-10)?.s_star;
+//! let plan = planner.plan_ray(&dir, s_star, 0.0, RollMode::Fixed, true)?;
+//! let traj = planner.trajectory(&plan)?;
+//! std::fs::write("traj.csv", traj.to_csv()).unwrap();
+//! # Ok::<(), helixreach::Error>(())
+//! ```
 
 pub mod ladder;
+pub mod planner;
+pub mod pose_path;
 pub mod rig;
 pub mod trajectory;

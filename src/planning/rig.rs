@@ -33,6 +33,7 @@
 
 use crate::error::{Error, Result};
 use crate::math::{Iso3, Mat3, Real, Vec3, DEG};
+use crate::robot::SceneObstacle;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -144,42 +145,6 @@ pub struct MotorSpec {
     pub range: (Real, Real),
 }
 
-/// A primitive scene obstacle, posed in the base frame.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ObstacleSpec {
-    /// Name (used in messages).
-    pub name: String,
-    /// Pose of the shape in the base frame (the shape is centred on its frame; cylinders and
-    /// capsules along its z axis).
-    pub pose: Iso3,
-    /// The shape.
-    pub shape: ObstacleShape,
-}
-
-/// Shapes of [`ObstacleSpec`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ObstacleShape {
-    /// Box with half extents (m).
-    Box {
-        /// Half extents along the frame's x, y, z.
-        half_extents: Vec3,
-    },
-    /// Cylinder along z.
-    Cylinder {
-        /// Radius (m).
-        radius: Real,
-        /// Half height (m).
-        half_height: Real,
-    },
-    /// Capsule along z (segment of length 2·half_height, then inflated by the radius).
-    Capsule {
-        /// Radius (m).
-        radius: Real,
-        /// Half length of the core segment (m).
-        half_height: Real,
-    },
-}
-
 /// Planner settings (the `[planner]` table).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlannerSettings {
@@ -269,8 +234,8 @@ pub struct Rig {
     pub roll_samples: usize,
     /// Helix azimuths α (rad) tried per ray.
     pub azimuths: Vec<Real>,
-    /// Scene obstacles.
-    pub obstacles: Vec<ObstacleSpec>,
+    /// Scene obstacles (base frame), in the robot module's format.
+    pub obstacles: Vec<SceneObstacle>,
     /// Planner settings.
     pub planner: PlannerSettings,
 }
@@ -373,7 +338,7 @@ struct RawRig {
     #[serde(default)]
     azimuth: RawAzimuth,
     #[serde(default, rename = "obstacle")]
-    obstacles: Vec<RawObstacle>,
+    obstacles: Vec<SceneObstacle>,
     #[serde(default)]
     planner: RawPlanner,
 }
@@ -466,32 +431,6 @@ impl Default for RawAzimuth {
             count: None,
         }
     }
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawObstacle {
-    name: String,
-    shape: RawShape,
-    #[serde(default)]
-    pose: RawPose,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-enum RawShape {
-    Box { half_extents: [Real; 3] },
-    Cylinder { radius: Real, half_height: Real },
-    Capsule { radius: Real, half_height: Real },
-}
-
-#[derive(Debug, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct RawPose {
-    #[serde(default)]
-    xyz: [Real; 3],
-    #[serde(default)]
-    rpy: [Real; 3],
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -712,42 +651,16 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
     };
 
     // Obstacles.
-    let mut obstacles = Vec::with_capacity(raw.obstacles.len());
-    for (i, o) in raw.obstacles.into_iter().enumerate() {
-        let f = |k: &str| format!("obstacle[{i}].{k}");
-        let center = c.vec3(&f("pose.xyz"), o.pose.xyz)?;
-        let rpy = c.vec3(&f("pose.rpy"), o.pose.rpy)?;
-        let pose = iso_from(&rpy_matrix(&rpy), &center);
-        let shape = match o.shape {
-            RawShape::Box { half_extents: h } => {
-                for (k, v) in h.iter().enumerate() {
-                    c.positive(&f(&format!("shape.half_extents[{k}]")), *v)?;
-                }
-                ObstacleShape::Box {
-                    half_extents: Vec3::new(h[0], h[1], h[2]),
-                }
-            }
-            RawShape::Cylinder {
-                radius,
-                half_height,
-            } => ObstacleShape::Cylinder {
-                radius: c.positive(&f("shape.radius"), radius)?,
-                half_height: c.positive(&f("shape.half_height"), half_height)?,
-            },
-            RawShape::Capsule {
-                radius,
-                half_height,
-            } => ObstacleShape::Capsule {
-                radius: c.positive(&f("shape.radius"), radius)?,
-                half_height: c.non_negative(&f("shape.half_height"), half_height)?,
-            },
-        };
-        obstacles.push(ObstacleSpec {
-            name: o.name,
-            pose,
-            shape,
-        });
+    for (i, o) in raw.obstacles.iter().enumerate() {
+        o.validate().map_err(|e| {
+            c.err(
+                &format!("obstacle[{i}]"),
+                format!("{:?}", o.name),
+                &e.to_string(),
+            )
+        })?;
     }
+    let obstacles = raw.obstacles;
 
     // Planner.
     let d = PlannerSettings::default();

@@ -1,10 +1,98 @@
-//! `helixreach plan` (not implemented yet).
+//! `helixreach plan`: plan one ray on a rig and write its time-parametrized joint + motor
+//! trajectory (CSV, and optionally a JSON shaped like ROS `trajectory_msgs/JointTrajectory`).
+
+use anyhow::Context;
+use helixreach::directions::Direction;
+use helixreach::planning::planner::Planner;
+use helixreach::planning::rig::{Rig, RollMode};
+use helixreach::sweep::reach::s_star_of;
+use std::path::PathBuf;
 
 /// Arguments of `helixreach plan`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
+    #[arg(long, default_value = "sawyer-seed")]
+    pub rig: String,
+    /// The ray's direction `κ,τ,ω` (normalized; κ ≥ 0).
+    #[arg(long, allow_hyphen_values = true)]
+    pub direction: String,
+    /// Helix azimuth α (rad); default: the best of the rig's azimuth choices.
+    #[arg(long, allow_hyphen_values = true)]
+    pub azimuth: Option<f64>,
+    /// Roll mode (`fixed` or `motor`); default: the rig's.
+    #[arg(long)]
+    pub roll: Option<RollMode>,
+    /// The boundary s* along the ray; default: the continuum conjugate-point test.
+    #[arg(long)]
+    pub s_star: Option<f64>,
+    /// Waypoints uniform in s instead of the rig's spacing (e.g. 2000, the seed's density).
+    #[arg(long)]
+    pub waypoints: Option<usize>,
+    /// Output trajectory CSV.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also write the trajectory as JSON (ROS JointTrajectory shape).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+fn parse_direction(s: &str) -> anyhow::Result<Direction> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--direction `{s}`: expected three numbers κ,τ,ω"))?;
+    anyhow::ensure!(
+        v.len() == 3,
+        "--direction `{s}`: expected three numbers κ,τ,ω"
+    );
+    Ok(Direction::new(v[0], v[1], v[2])?)
+}
 
 /// Run `helixreach plan`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach plan` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let dir = parse_direction(&args.direction)?;
+    let mut rig = Rig::load(&args.rig)?;
+    if let Some(n) = args.waypoints {
+        anyhow::ensure!(n >= 2, "--waypoints {n}: need at least 2");
+        rig.planner.waypoints = n;
+        rig.planner.max_waypoints = rig.planner.max_waypoints.max(n);
+    }
+    let roll = args.roll.unwrap_or(rig.roll);
+    let azimuths = match args.azimuth {
+        Some(a) => vec![a],
+        None => rig.azimuths.clone(),
+    };
+    let planner = Planner::new(rig)?;
+    let s_star = match args.s_star {
+        Some(s) => s,
+        None => s_star_of(&dir, None)?,
+    };
+    let t0 = std::time::Instant::now();
+    let plan = planner.plan_best(&dir, s_star, &azimuths, roll, true)?;
+    let dt = t0.elapsed().as_secs_f64();
+    let traj = planner.trajectory(&plan)?;
+    helixreach::io::write_atomic(&args.out, traj.to_csv().as_bytes())?;
+    if let Some(j) = &args.json {
+        helixreach::io::write_atomic(j, traj.to_json().as_bytes())?;
+    }
+    eprintln!(
+        "{}: s* = {}, s_reached = {} of {} ({} of {} waypoints), cause {}, azimuth {}, roll {}, \
+         cost {:.4}, max joint step {:.4} rad, duration {:.1} s; planned in {:.3} s",
+        plan.class.as_str(),
+        plan.s_star,
+        plan.s_reached,
+        plan.s_end,
+        plan.n_reached,
+        plan.n_waypoints,
+        plan.cause.map_or("-", |c| c.as_str()),
+        plan.azimuth,
+        plan.roll,
+        plan.path_cost,
+        plan.max_joint_step,
+        traj.duration(),
+        dt
+    );
+    Ok(())
 }

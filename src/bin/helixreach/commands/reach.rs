@@ -1,10 +1,96 @@
-//! `helixreach reach` (not implemented yet).
+//! `helixreach reach`: the reachability sweep of a rig over a direction set
+//! (see `helixreach::sweep::reach`).
+
+use helixreach::directions::{fibonacci, read_csv};
+use helixreach::planning::planner::Planner;
+use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
+use helixreach::sweep::driver::{Shard, SweepOptions};
+use helixreach::sweep::reach::{run as run_reach, BoundaryTable, ReachOptions, REACH_HEADER};
+use std::path::PathBuf;
 
 /// Arguments of `helixreach reach`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
+    #[arg(long, default_value = "sawyer-seed")]
+    pub rig: String,
+    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0.
+    #[arg(long, conflicts_with = "directions")]
+    pub fibonacci: Option<usize>,
+    /// With --fibonacci: only the quarter τ > 0 (the experiment's).
+    #[arg(long, requires = "fibonacci")]
+    pub quarter: bool,
+    /// Directions from a CSV (`dir_kappa,dir_tau,dir_omega`).
+    #[arg(long)]
+    pub directions: Option<PathBuf>,
+    /// s* per direction from a `helixreach boundary` CSV (default: computed, continuum).
+    #[arg(long)]
+    pub boundary: Option<PathBuf>,
+    /// Roll mode (`fixed` or `motor`); default: the rig's.
+    #[arg(long)]
+    pub roll: Option<RollMode>,
+    /// Try N azimuths evenly spaced in [0, 2π) per ray and keep the best (default: the rig's
+    /// azimuth choices).
+    #[arg(long)]
+    pub azimuths: Option<usize>,
+    /// Process only shard I/N (0-based) of the directions.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Keep the rows of an existing output and compute only the missing directions.
+    #[arg(long)]
+    pub resume: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Output CSV.
+    #[arg(long)]
+    pub out: PathBuf,
+}
 
 /// Run `helixreach reach`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach reach` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let dirs = match (&args.fibonacci, &args.directions) {
+        (Some(n), None) => fibonacci(*n, args.quarter)?,
+        (None, Some(p)) => read_csv(p)?,
+        _ => anyhow::bail!("give exactly one of --fibonacci N or --directions FILE"),
+    };
+    let rig = Rig::load(&args.rig)?;
+    let opts = ReachOptions {
+        roll: args.roll.unwrap_or(rig.roll),
+        azimuths: match args.azimuths {
+            Some(0) => anyhow::bail!("--azimuths 0: need at least one azimuth"),
+            Some(n) => azimuth_grid(n),
+            None => rig.azimuths.clone(),
+        },
+    };
+    let planner = Planner::new(rig)?;
+    let table = match &args.boundary {
+        Some(p) => Some(BoundaryTable::read(p)?),
+        None => None,
+    };
+    let mut sweep = SweepOptions::new(&args.out, &REACH_HEADER, 3);
+    sweep.resume = args.resume;
+    sweep.shard = args.shard;
+    sweep.progress = !args.quiet;
+    let go = || run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep);
+    let t0 = std::time::Instant::now();
+    let summary = match args.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()?
+            .install(go)?,
+        None => go()?,
+    };
+    eprintln!(
+        "reach: {} directions ({} computed, {} resumed) in {:.1} s -> {}",
+        summary.total,
+        summary.computed,
+        summary.resumed,
+        t0.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    Ok(())
 }

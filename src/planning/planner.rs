@@ -1,0 +1,766 @@
+//! The Descartes-style planner of one ray: pose path → rungs of IK solutions → ladder DP →
+//! joint + motor path (DESIGN.md §5).
+//!
+//! # Rungs
+//! - **Start** (s = 0, the straight rod — the same pose for every ray and azimuth): a diverse set
+//!   of fresh IK solutions, [`IkSolver::solve_all`] with the redundancy joint locked at
+//!   `redundancy_samples` values, computed once per roll mode and cached.
+//! - **Waypoint k+1**: every node of rung k is tracked to the new pose by one Levenberg–Marquardt
+//!   run seeded at its joints ([`IkSolver::track`]: minimum-norm steps, so the track follows the
+//!   self-motion manifold continuously). When the rung is thinner than `redundancy_samples`, new
+//!   nodes are spawned next to the cheapest surviving ones by tracking with the redundancy joint
+//!   locked half a joint step away, so the rung keeps its diversity.
+//! - Roll mode `fixed`: the target is the full tool pose (the transported frame), the motor angle
+//!   is ω/c. Roll mode `motor`: the target is the tool position and z axis (roll free); the arm's
+//!   roll ψ about d3 relative to the transported frame is read back by FK and the motor makes up
+//!   the rest, `m = ω/c − ψ` (unwrapped continuously along the track).
+//! - Each node is pruned by: no IK (the track does not converge), joint/motor limits, self-,
+//!   scene- and rod-collision (the current helix as `rod_capsules` capsules of radius
+//!   r + `rod_clearance`, without the last `rod_end_exclusion` metres the motor grips).
+//!
+//! # Edges
+//! `i → j` exists when every joint step is ≤ `max_joint_step`; its cost is `‖W·Δq‖ +
+//! w_m·|Δm|`. The straight joint-space segment is checked for collision at interior samples no
+//! more than `segment_check_step` apart (max-norm), against the rod of the later waypoint. The DP
+//! is [`crate::planning::ladder::Ladder`].
+//!
+//! # Result
+//! The farthest s reached, the class (testable: the whole path to s*·(1 + margin); partial:
+//! stopped after s = 0; blocked: cannot leave the straight rod) and the blocking cause (the
+//! dominant rejection of the first dead rung).
+
+use crate::directions::Direction;
+use crate::error::{Error, Result};
+use crate::helix::Helix;
+use crate::math::{rot_z, tol, Iso3, Mat3, Real, Vec3};
+use crate::planning::ladder::{BlockCause, CauseCounts, Ladder};
+use crate::planning::pose_path::{pose_path, PoseMap, Ray, Spacing, Waypoint};
+use crate::planning::rig::{tool_from_director, Rig, RollMode};
+use crate::planning::trajectory::{time_parametrize, TimingLimits, Trajectory, TrajectoryPoint};
+use crate::robot::collision::{BodyRef, Contact, RodGeometry};
+use crate::robot::{
+    CollisionModel, CollisionWorkspace, Frame, IkParams, IkSolver, IkTarget, RobotModel, MAX_DOF,
+};
+use std::sync::OnceLock;
+
+/// Halvings of the s-step allowed at one waypoint when its rung cannot be joined.
+const MAX_REFINE: u32 = 4;
+
+/// Reachability class of a ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ReachClass {
+    /// The whole path to s*·(1 + margin) is feasible.
+    Testable,
+    /// The path stops at some 0 < s < s*·(1 + margin).
+    Partial,
+    /// The path cannot leave the straight rod.
+    Blocked,
+}
+
+impl ReachClass {
+    /// The CSV name.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            ReachClass::Testable => "testable",
+            ReachClass::Partial => "partial",
+            ReachClass::Blocked => "blocked",
+        }
+    }
+}
+
+/// One planned configuration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedPoint {
+    /// The waypoint (pose path).
+    pub waypoint: Waypoint,
+    /// Joint values.
+    pub q: Vec<Real>,
+    /// Motor angle (rad): the rod's turn about d3 relative to the frame the arm holds.
+    pub motor: Real,
+}
+
+/// The plan of one ray.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RayPlan {
+    /// Direction.
+    pub dir: Direction,
+    /// Boundary s* (∞ when stable up to [`tol::S_MAX`]).
+    pub s_star: Real,
+    /// Target s of the path.
+    pub s_end: Real,
+    /// Farthest s reached.
+    pub s_reached: Real,
+    /// Class.
+    pub class: ReachClass,
+    /// Why the path stopped (`None` when testable).
+    pub cause: Option<BlockCause>,
+    /// Helix azimuth used.
+    pub azimuth: Real,
+    /// Roll mode used.
+    pub roll: RollMode,
+    /// Waypoints of the pose path (to s_end).
+    pub n_waypoints: usize,
+    /// Waypoints reached.
+    pub n_reached: usize,
+    /// DP cost of the path to `s_reached`.
+    pub path_cost: Real,
+    /// Largest joint step on the path (rad).
+    pub max_joint_step: Real,
+    /// The path to `s_reached` (when asked for).
+    pub path: Option<Vec<PlannedPoint>>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    q: [Real; MAX_DOF],
+    motor: Real,
+}
+
+/// A planner for one rig: the robot, its collision model with the rig's scene, and the cached
+/// start rungs. `Send + Sync`; per-ray scratch lives in the calls.
+#[derive(Debug)]
+pub struct Planner {
+    rig: Rig,
+    model: RobotModel,
+    collision: CollisionModel,
+    ik: IkParams,
+    tool_inv: Frame,
+    dof: usize,
+    red_joint: usize,
+    weights: [Real; MAX_DOF],
+    start_fixed: OnceLock<std::result::Result<Vec<Node>, CauseCounts>>,
+    start_motor: OnceLock<std::result::Result<Vec<Node>, CauseCounts>>,
+}
+
+fn cause_of(c: &Contact) -> BlockCause {
+    match (c.a, c.b) {
+        (BodyRef::Rod(_), _) | (_, BodyRef::Rod(_)) => BlockCause::RodCollision,
+        (_, BodyRef::Obstacle(_)) | (BodyRef::Obstacle(_), _) => BlockCause::SceneCollision,
+        _ => BlockCause::SelfCollision,
+    }
+}
+
+/// Per-ray scratch.
+struct Scratch {
+    ws: CollisionWorkspace,
+    rod: Vec<Vec3>,
+    qi: [Real; MAX_DOF],
+}
+
+impl Planner {
+    /// Load the rig's robot and scene. Errors name the rig file: a robot that cannot be loaded,
+    /// a missing tip link, joint weights of the wrong length, an unreachable clamp (no
+    /// collision-free IK solution for the straight rod in the rig's roll mode).
+    pub fn new(rig: Rig) -> Result<Planner> {
+        let src = rig.robot.source();
+        let model = RobotModel::load(&src, Some(&rig.robot.tip_link)).map_err(|e| {
+            Error::invalid(
+                format!("{}: robot", rig.source),
+                format!(
+                    "urdf = {:?}, tip_link = {:?}",
+                    rig.robot.urdf, rig.robot.tip_link
+                ),
+                format!("cannot load the robot: {e}"),
+            )
+        })?;
+        let dof = model.dof();
+        let w = &rig.planner.joint_weights;
+        if !w.is_empty() && w.len() != dof {
+            return Err(Error::invalid(
+                format!("{}: planner.joint_weights", rig.source),
+                format!("{w:?}"),
+                format!("needs one weight per joint ({dof})"),
+            ));
+        }
+        let mut weights = [1.0; MAX_DOF];
+        for (k, x) in w.iter().enumerate() {
+            weights[k] = *x;
+        }
+        let mut collision = CollisionModel::for_model(&model).map_err(|e| {
+            Error::invalid(
+                format!("{}: robot", rig.source),
+                &rig.robot.urdf,
+                e.to_string(),
+            )
+        })?;
+        collision
+            .set_obstacles(&rig.obstacles)
+            .map_err(|e| Error::invalid(format!("{}: obstacle", rig.source), "", e.to_string()))?;
+        let ik = IkParams {
+            redundancy_joint: Some(0),
+            samples: rig.planner.redundancy_samples,
+            restarts: 6,
+            max_iterations: 60,
+            ..IkParams::default()
+        };
+        let tool_inv = Frame::from_iso(&rig.tool).inverse();
+        let planner = Planner {
+            rig,
+            model,
+            collision,
+            ik,
+            tool_inv,
+            dof,
+            red_joint: 0,
+            weights,
+            start_fixed: OnceLock::new(),
+            start_motor: OnceLock::new(),
+        };
+        // Unreachable clamp: no valid start in the rig's roll mode.
+        if let Err(causes) = planner.start(planner.rig.roll) {
+            let o = planner.rig.clamp.translation.vector;
+            return Err(Error::invalid(
+                format!("{}: clamp.origin", planner.rig.source),
+                format!("[{}, {}, {}]", o.x, o.y, o.z),
+                format!(
+                    "unreachable clamp: the straight rod's end pose has no valid IK solution \
+                     (dominant cause: {})",
+                    causes.dominant().map_or("no_ik", |c| c.as_str())
+                ),
+            ));
+        }
+        Ok(planner)
+    }
+
+    /// The rig.
+    pub fn rig(&self) -> &Rig {
+        &self.rig
+    }
+
+    /// The robot model.
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+
+    /// The collision model (robot + the rig's scene).
+    pub fn collision(&self) -> &CollisionModel {
+        &self.collision
+    }
+
+    /// The tip-link pose that puts the tool frame at `tool` (base frame).
+    pub fn tip_target(&self, tool: &Iso3) -> Frame {
+        Frame::from_iso(tool).mul(&self.tool_inv)
+    }
+
+    /// The tool frame (rod end) pose of the arm at `q`, by FK.
+    pub fn tool_pose(&self, q: &[Real]) -> Iso3 {
+        self.model
+            .chain()
+            .tool_pose(q)
+            .mul(&Frame::from_iso(&self.rig.tool))
+            .to_iso()
+    }
+
+    fn target(&self, tool: &Iso3, roll: RollMode) -> IkTarget {
+        let t = IkTarget::Pose(self.tip_target(tool));
+        match roll {
+            RollMode::Fixed => t,
+            RollMode::Motor => t.free_roll(),
+        }
+    }
+
+    /// The rod capsules of the helix `kto` (base frame) into `out`.
+    fn rod_nodes(&self, kto: [Real; 3], azimuth: Real, out: &mut [Vec3]) -> Result<()> {
+        let h = Helix::new(kto[0], kto[1], kto[2])?;
+        crate::helix::discrete::fill_nodes(&h, out);
+        let rc = self.rig.clamp_rotation() * rot_z(azimuth);
+        let oc = self.rig.clamp.translation.vector;
+        let l = self.rig.rod.length;
+        for x in out.iter_mut() {
+            *x = oc + rc * (*x * l);
+        }
+        Ok(())
+    }
+
+    fn rod_geometry<'a>(&self, nodes: &'a [Vec3]) -> RodGeometry<'a> {
+        RodGeometry {
+            nodes,
+            radius: self.rig.rod.radius + self.rig.planner.rod_clearance,
+            ignore_near_tool: self.rig.planner.rod_end_exclusion,
+            ignore_near_clamp: 0.0,
+            against_scene: false,
+        }
+    }
+
+    fn check_config(&self, q: &[Real], sc: &mut Scratch) -> std::result::Result<(), BlockCause> {
+        let rod = self.rod_geometry(&sc.rod);
+        match self.collision.check(q, &mut sc.ws, Some(&rod)) {
+            None => Ok(()),
+            Some(c) => Err(cause_of(&c)),
+        }
+    }
+
+    /// Motor angle of an arm configuration realising waypoint `w`: ω/c in roll mode `fixed`;
+    /// `ω/c − ψ` in roll mode `motor`, ψ the arm's roll about d3 relative to the transported
+    /// frame, unwrapped to the branch nearest `near`.
+    fn motor_angle(&self, w: &Waypoint, q: &[Real], roll: RollMode, near: Real) -> Real {
+        match roll {
+            RollMode::Fixed => w.motor,
+            RollMode::Motor => {
+                let arm = self.tool_pose(q);
+                let m = (w.tool.rotation.inverse() * arm.rotation)
+                    .to_rotation_matrix()
+                    .into_inner();
+                // R_toolᵀ·R_arm = P·Rz(ψ)·P = Rz(−ψ).
+                let psi = -m[(1, 0)].atan2(m[(0, 0)]);
+                let raw = w.motor - psi;
+                let two_pi = 2.0 * std::f64::consts::PI;
+                raw + two_pi * ((near - raw) / two_pi).round()
+            }
+        }
+    }
+
+    fn motor_ok(&self, m: Real) -> bool {
+        let (lo, hi) = self.rig.motor.range;
+        m >= lo && m <= hi
+    }
+
+    fn new_scratch(&self) -> Scratch {
+        Scratch {
+            ws: self.collision.workspace(),
+            rod: vec![Vec3::zeros(); self.rig.planner.rod_capsules + 1],
+            qi: [0.0; MAX_DOF],
+        }
+    }
+
+    /// The start rung (straight rod) for `roll`, cached; `Err` with the rejection counts when no
+    /// start configuration is valid.
+    fn start(&self, roll: RollMode) -> std::result::Result<&Vec<Node>, CauseCounts> {
+        let cell = match roll {
+            RollMode::Fixed => &self.start_fixed,
+            RollMode::Motor => &self.start_motor,
+        };
+        cell.get_or_init(|| self.compute_start(roll))
+            .as_ref()
+            .map_err(|c| *c)
+    }
+
+    fn compute_start(&self, roll: RollMode) -> std::result::Result<Vec<Node>, CauseCounts> {
+        let mut sc = self.new_scratch();
+        let straight = [0.0; 3];
+        let mut causes = CauseCounts::default();
+        if self.rod_nodes(straight, 0.0, &mut sc.rod).is_err() {
+            causes.add(BlockCause::NoIk);
+            return Err(causes);
+        }
+        let tool = self.rig.straight_tool_pose();
+        let w0 = Waypoint {
+            s: 0.0,
+            kto: straight,
+            tool,
+            motor: 0.0,
+        };
+        // All joints free, many random restarts: the self-motion manifold of the start pose is
+        // sampled broadly, then thinned to the most diverse `redundancy_samples` valid solutions.
+        let params = IkParams {
+            redundancy_joint: None,
+            restarts: 40
+                * self
+                    .rig
+                    .planner
+                    .redundancy_samples
+                    .max(self.rig.roll_samples),
+            max_iterations: 100,
+            ..self.ik.clone()
+        };
+        let Ok(solver) = IkSolver::new(&self.model, params) else {
+            causes.add(BlockCause::NoIk);
+            return Err(causes);
+        };
+        let sols = solver.solve_all(&self.target(&tool, roll), &[]);
+        if sols.is_empty() {
+            causes.add(BlockCause::NoIk);
+        }
+        let mut out = Vec::new();
+        for s in sols {
+            let q = s.joints();
+            if let Err(c) = self.check_config(q, &mut sc) {
+                causes.add(c);
+                continue;
+            }
+            let motor = self.motor_angle(&w0, q, roll, 0.0);
+            if !self.motor_ok(motor) {
+                causes.add(BlockCause::JointLimit);
+                continue;
+            }
+            let mut node = Node {
+                q: [0.0; MAX_DOF],
+                motor,
+            };
+            node.q[..self.dof].copy_from_slice(q);
+            out.push(node);
+        }
+        if out.is_empty() {
+            return Err(causes);
+        }
+        Ok(farthest_points(
+            out,
+            self.rig.planner.redundancy_samples,
+            self.dof,
+        ))
+    }
+
+    fn edge_cost(&self, a: &Node, b: &Node) -> Option<Real> {
+        let mut c2 = 0.0;
+        for j in 0..self.dof {
+            let d = (b.q[j] - a.q[j]).abs();
+            if d > self.rig.planner.max_joint_step {
+                return None;
+            }
+            c2 += (self.weights[j] * d).powi(2);
+        }
+        Some(c2.sqrt() + self.rig.planner.motor_weight * (b.motor - a.motor).abs())
+    }
+
+    fn check_segment(
+        &self,
+        a: &Node,
+        b: &Node,
+        sc: &mut Scratch,
+    ) -> std::result::Result<(), BlockCause> {
+        let mut dmax: Real = 0.0;
+        for j in 0..self.dof {
+            dmax = dmax.max((b.q[j] - a.q[j]).abs());
+        }
+        let n = (dmax / self.rig.planner.segment_check_step).ceil() as usize;
+        for k in 1..n {
+            let t = k as Real / n as Real;
+            for j in 0..self.dof {
+                sc.qi[j] = a.q[j] + t * (b.q[j] - a.q[j]);
+            }
+            let qi = sc.qi;
+            self.check_config(&qi[..self.dof], sc)?;
+        }
+        Ok(())
+    }
+
+    /// Plan one ray at one azimuth in one roll mode; `want_path` keeps the joint path.
+    /// `s_star` is the boundary along the ray (∞ = stable up to [`tol::S_MAX`], then the path
+    /// ends at `S_MAX`).
+    pub fn plan_ray(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
+        if s_star.is_nan() || s_star <= 0.0 {
+            return Err(Error::invalid("s_star", s_star, "must be > 0 (or +inf)"));
+        }
+        crate::error::require_finite("azimuth", azimuth)?;
+        let s_end = if s_star.is_finite() {
+            s_star * (1.0 + self.rig.planner.margin)
+        } else {
+            tol::S_MAX
+        };
+        let ray = Ray {
+            dir: [dir.kappa, dir.tau, dir.omega],
+            azimuth,
+        };
+        let wps = pose_path(&self.rig, &ray, s_end, &Spacing::of(&self.rig))?;
+        let mut plan = RayPlan {
+            dir: *dir,
+            s_star,
+            s_end,
+            s_reached: 0.0,
+            class: ReachClass::Blocked,
+            cause: None,
+            azimuth,
+            roll,
+            n_waypoints: wps.len(),
+            n_reached: 0,
+            path_cost: 0.0,
+            max_joint_step: 0.0,
+            path: None,
+        };
+        let start = match self.start(roll) {
+            Ok(s) => s,
+            Err(c) => {
+                plan.cause = Some(c.dominant().unwrap_or(BlockCause::NoIk));
+                return Ok(plan);
+            }
+        };
+        let mut sc = self.new_scratch();
+        let solver = IkSolver::new(&self.model, self.ik.clone())?;
+        let mut ladder: Ladder<Node> = Ladder::new();
+        ladder.push_first(start.clone());
+        let map = PoseMap::new(&self.rig, azimuth);
+        let mut accepted: Vec<Waypoint> = Vec::with_capacity(wps.len());
+        accepted.push(wps[0].clone());
+        // Targets still to reach before wps[next]: refinements (midpoints), innermost last.
+        let mut pending: Vec<Waypoint> = Vec::new();
+        let mut next = 1;
+        let mut depth = 0u32;
+        let mut inserted = 0usize;
+        let mut stop_cause = None;
+        let mut order: Vec<usize> = Vec::new();
+        while next < wps.len() {
+            let w = pending.last().unwrap_or(&wps[next]).clone();
+            match self.push_rung(&mut ladder, &w, azimuth, roll, &solver, &mut sc, &mut order)? {
+                None => {
+                    accepted.push(w);
+                    if pending.pop().is_none() {
+                        next += 1;
+                        depth = 0;
+                    }
+                }
+                Some(cause) => {
+                    // Refine: a closer pose gives smaller joint steps and easier tracking.
+                    let s0 = accepted.last().map_or(0.0, |a| a.s);
+                    if depth < MAX_REFINE {
+                        let sm = 0.5 * (s0 + w.s);
+                        let kto = [sm * dir.kappa, sm * dir.tau, sm * dir.omega];
+                        let (tool, motor) = map.end(kto)?;
+                        pending.push(Waypoint {
+                            s: sm,
+                            kto,
+                            tool,
+                            motor,
+                        });
+                        depth += 1;
+                        inserted += 1;
+                        continue;
+                    }
+                    stop_cause = Some(cause);
+                    break;
+                }
+            }
+        }
+        plan.n_waypoints = wps.len() + inserted;
+        let reached = ladder.len();
+        plan.n_reached = reached;
+        plan.s_reached = accepted[reached - 1].s;
+        plan.cause = stop_cause;
+        plan.class = if stop_cause.is_none() {
+            if s_star.is_finite() {
+                ReachClass::Testable
+            } else {
+                ReachClass::Partial
+            }
+        } else if reached > 1 {
+            ReachClass::Partial
+        } else {
+            ReachClass::Blocked
+        };
+        if let Some((path, cost)) = ladder.best_path() {
+            plan.path_cost = cost;
+            plan.max_joint_step = path
+                .windows(2)
+                .map(|p| {
+                    (0..self.dof)
+                        .map(|j| (p[1].q[j] - p[0].q[j]).abs())
+                        .fold(0.0, Real::max)
+                })
+                .fold(0.0, Real::max);
+            if want_path {
+                plan.path = Some(
+                    path.iter()
+                        .zip(&accepted)
+                        .map(|(n, w)| PlannedPoint {
+                            waypoint: w.clone(),
+                            q: n.q[..self.dof].to_vec(),
+                            motor: n.motor,
+                        })
+                        .collect(),
+                );
+            }
+        }
+        Ok(plan)
+    }
+
+    /// Build the rung of waypoint `w` from the ladder's last rung and push it; `None` on
+    /// success, else the blocking cause (the ladder is unchanged).
+    fn push_rung(
+        &self,
+        ladder: &mut Ladder<Node>,
+        w: &Waypoint,
+        azimuth: Real,
+        roll: RollMode,
+        solver: &IkSolver<'_>,
+        sc: &mut Scratch,
+        order: &mut Vec<usize>,
+    ) -> Result<Option<BlockCause>> {
+        let width = self.rig.planner.redundancy_samples;
+        let step = self.rig.planner.max_joint_step;
+        let (lower, upper) = (self.model.lower(), self.model.upper());
+        self.rod_nodes(w.kto, azimuth, &mut sc.rod)?;
+        let target = self.target(&w.tool, roll);
+        let (prev, prev_cost) = ladder.last();
+        let mut nodes: Vec<Node> = Vec::with_capacity(width.max(prev.len()));
+        let mut causes = CauseCounts::default();
+        // Cheapest predecessors first (they seed the tracks and the spawns).
+        order.clear();
+        order.extend(0..prev.len());
+        order.sort_by(|&a, &b| prev_cost[a].total_cmp(&prev_cost[b]).then(a.cmp(&b)));
+        let mut try_node =
+            |seed: &Node, lock: Option<(usize, Real)>, nodes: &mut Vec<Node>, sc: &mut Scratch| {
+                let Some(sol) = solver.track(&target, &seed.q[..self.dof], lock) else {
+                    let near_limit = (0..self.dof)
+                        .any(|j| seed.q[j] - lower[j] < step || upper[j] - seed.q[j] < step);
+                    causes.add(if near_limit {
+                        BlockCause::JointLimit
+                    } else {
+                        BlockCause::NoIk
+                    });
+                    return;
+                };
+                let q = sol.joints();
+                if nodes.iter().any(|n| {
+                    (0..self.dof).all(|j| (n.q[j] - q[j]).abs() <= self.ik.dedup_tolerance)
+                }) {
+                    return;
+                }
+                let motor = self.motor_angle(w, q, roll, seed.motor);
+                if !self.motor_ok(motor) {
+                    causes.add(BlockCause::JointLimit);
+                    return;
+                }
+                if let Err(c) = self.check_config(q, sc) {
+                    causes.add(c);
+                    return;
+                }
+                let mut node = Node {
+                    q: [0.0; MAX_DOF],
+                    motor,
+                };
+                node.q[..self.dof].copy_from_slice(q);
+                nodes.push(node);
+            };
+        for &i in order.iter() {
+            try_node(&prev[i], None, &mut nodes, sc);
+        }
+        // Spawn next to the cheapest survivors when the rung is thin.
+        if nodes.len() < width {
+            let j = self.red_joint;
+            'spawn: for &i in order.iter() {
+                for sign in [1.0, -1.0] {
+                    if nodes.len() >= width {
+                        break 'spawn;
+                    }
+                    let v = prev[i].q[j] + sign * 0.5 * step;
+                    if v > lower[j] && v < upper[j] {
+                        try_node(&prev[i], Some((j, v)), &mut nodes, sc);
+                    }
+                }
+            }
+        }
+        if nodes.is_empty() {
+            return Ok(Some(causes.dominant().unwrap_or(BlockCause::NoIk)));
+        }
+        let out = ladder.push_rung(
+            nodes,
+            |a, b| self.edge_cost(a, b),
+            |a, b| self.check_segment(a, b, sc),
+        );
+        Ok(if out.reachable == 0 { out.cause } else { None })
+    }
+
+    /// Plan a ray trying every azimuth of `azimuths` and keep the best: testable before partial
+    /// before blocked, then the farthest s, then the lowest cost, then the first azimuth.
+    pub fn plan_best(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuths: &[Real],
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
+        let mut best: Option<RayPlan> = None;
+        for &a in azimuths {
+            let p = self.plan_ray(dir, s_star, a, roll, want_path)?;
+            let better = match &best {
+                None => true,
+                Some(b) => {
+                    let rank = |c: ReachClass| match c {
+                        ReachClass::Testable => 2,
+                        ReachClass::Partial => 1,
+                        ReachClass::Blocked => 0,
+                    };
+                    (rank(p.class), p.s_reached, -p.path_cost)
+                        .partial_cmp(&(rank(b.class), b.s_reached, -b.path_cost))
+                        .is_some_and(|o| o.is_gt())
+                }
+            };
+            if better {
+                best = Some(p);
+            }
+        }
+        best.ok_or_else(|| Error::invalid("azimuths", "[]", "need at least one azimuth"))
+    }
+
+    /// The time-parametrized trajectory of a plan with a path (see [`crate::planning::trajectory`]).
+    pub fn trajectory(&self, plan: &RayPlan) -> Result<Trajectory> {
+        let path = plan
+            .path
+            .as_ref()
+            .ok_or_else(|| Error::invalid("plan", "no path", "plan with want_path = true"))?;
+        let mut points: Vec<TrajectoryPoint> = path
+            .iter()
+            .map(|p| TrajectoryPoint {
+                t: 0.0,
+                q: p.q.clone(),
+                motor: p.motor,
+                s: p.waypoint.s,
+                kto: p.waypoint.kto,
+                pose: self.tool_pose(&p.q),
+            })
+            .collect();
+        let scale = self.rig.planner.velocity_scale;
+        let limits = TimingLimits {
+            joint_velocity: self
+                .model
+                .joints()
+                .iter()
+                .map(|j| j.velocity * scale)
+                .collect(),
+            motor_velocity: self.rig.motor.max_velocity * scale,
+            end_speed: self.rig.planner.end_speed,
+            rod_length: self.rig.rod.length,
+        };
+        time_parametrize(&mut points, &limits)?;
+        Ok(Trajectory {
+            joint_names: self.model.joints().iter().map(|j| j.name.clone()).collect(),
+            motor_name: "rod_motor".into(),
+            frame_id: self.model.root_link().to_string(),
+            points,
+        })
+    }
+}
+
+/// The rod end's material frame (base frame) realised by an arm tool rotation `r_arm` and a motor
+/// angle `m`: `R_c·A·Rz(m)` with `A = R_cᵀ·R_arm·P` the arm's frame in the `[d1 d2 d3]` convention.
+pub fn material_from_arm(rig: &Rig, r_arm: &Mat3, m: Real) -> Mat3 {
+    let rc = rig.clamp_rotation();
+    let p = tool_from_director();
+    rc * (rc.transpose() * r_arm * p.transpose()) * rot_z(m)
+}
+
+/// Greedy farthest-point selection of `k` nodes (max-norm joint distance), starting from the
+/// first: deterministic, and spreads the start rung over the self-motion manifold.
+fn farthest_points(nodes: Vec<Node>, k: usize, dof: usize) -> Vec<Node> {
+    if nodes.len() <= k {
+        return nodes;
+    }
+    let dist = |a: &Node, b: &Node| {
+        (0..dof)
+            .map(|j| (a.q[j] - b.q[j]).abs())
+            .fold(0.0, Real::max)
+    };
+    let mut chosen = vec![0usize];
+    let mut dmin: Vec<Real> = nodes.iter().map(|n| dist(n, &nodes[0])).collect();
+    while chosen.len() < k {
+        let mut best = 0;
+        for i in 0..nodes.len() {
+            if dmin[i] > dmin[best] {
+                best = i;
+            }
+        }
+        chosen.push(best);
+        for i in 0..nodes.len() {
+            dmin[i] = dmin[i].min(dist(&nodes[i], &nodes[best]));
+        }
+    }
+    chosen.sort_unstable();
+    chosen.into_iter().map(|i| nodes[i]).collect()
+}

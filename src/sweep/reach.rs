@@ -1,0 +1,195 @@
+//! The reachability sweep (DESIGN.md §6): every direction of a set is planned on a rig
+//! ([`crate::planning::planner::Planner::plan_best`]) and classified as `testable`, `partial` or
+//! `blocked`, with the blocking cause. Built on the generic [`crate::sweep::driver`]: parallel
+//! over directions only, rows in input order (bitwise identical for any thread count),
+//! checkpointed, resumable, shardable, atomic output.
+//!
+//! Columns: [`REACH_HEADER`]. An unreachable direction is a `blocked` row with its cause, never an
+//! error; only a failure of the boundary computation or of the planner's input aborts the sweep.
+//!
+//! The boundary s* of each direction comes from the continuum conjugate-point test
+//! ([`crate::boundary::continuum::critical_s`]) or from a boundary CSV written by
+//! `helixreach boundary` ([`BoundaryTable`]).
+
+use crate::directions::Direction;
+use crate::error::{Error, Result};
+use crate::math::{tol, Real};
+use crate::planning::planner::{Planner, RayPlan};
+use crate::planning::rig::RollMode;
+use crate::sweep::driver::{self, Row, SweepOptions, SweepSummary};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Columns of the `reach` CSV.
+pub const REACH_HEADER: [&str; 12] = [
+    "dir_kappa",
+    "dir_tau",
+    "dir_omega",
+    "s_star",
+    "s_reached",
+    "class",
+    "cause",
+    "azimuth",
+    "roll_mode",
+    "n_waypoints",
+    "path_cost",
+    "max_joint_step",
+];
+
+/// s* per direction read from a boundary CSV (`dir_kappa,dir_tau,dir_omega,s_star`, `inf`
+/// allowed). Directions are matched after normalization, to 1e-9.
+#[derive(Debug, Clone, Default)]
+pub struct BoundaryTable {
+    map: HashMap<[i64; 3], Real>,
+}
+
+fn key_of(d: &Direction) -> [i64; 3] {
+    let q = |x: Real| (x * 1e9).round() as i64;
+    [q(d.kappa), q(d.tau), q(d.omega)]
+}
+
+impl BoundaryTable {
+    /// Read a boundary CSV. Errors name the file, line and column.
+    pub fn read(path: &Path) -> Result<BoundaryTable> {
+        let file_err = |reason: String| Error::File {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let mut rdr = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_path(path)
+            .map_err(|e| file_err(e.to_string()))?;
+        let headers = rdr.headers().map_err(|e| file_err(e.to_string()))?.clone();
+        let col = |name: &str| {
+            headers
+                .iter()
+                .position(|h| h == name)
+                .ok_or_else(|| file_err(format!("missing column `{name}`")))
+        };
+        let cols = [
+            col("dir_kappa")?,
+            col("dir_tau")?,
+            col("dir_omega")?,
+            col("s_star")?,
+        ];
+        let mut map = HashMap::new();
+        for (k, rec) in rdr.records().enumerate() {
+            let line = k + 2;
+            let bad = |field: &str, reason: String| Error::BadLine {
+                path: path.to_path_buf(),
+                line,
+                field: field.into(),
+                reason,
+            };
+            let rec = rec.map_err(|e| bad("record", e.to_string()))?;
+            let mut v = [0.0; 4];
+            for (i, (&c, name)) in cols
+                .iter()
+                .zip(["dir_kappa", "dir_tau", "dir_omega", "s_star"])
+                .enumerate()
+            {
+                let s = rec.get(c).unwrap_or("");
+                v[i] = s
+                    .parse::<Real>()
+                    .map_err(|_| bad(name, format!("`{s}` is not a number")))?;
+            }
+            let d =
+                Direction::new(v[0], v[1], v[2]).map_err(|e| bad("direction", e.to_string()))?;
+            if v[3].is_nan() || v[3] <= 0.0 {
+                return Err(bad("s_star", format!("{} must be > 0 (or inf)", v[3])));
+            }
+            map.insert(key_of(&d), v[3]);
+        }
+        Ok(BoundaryTable { map })
+    }
+
+    /// s* of `dir`, if listed.
+    pub fn get(&self, dir: &Direction) -> Option<Real> {
+        self.map.get(&key_of(dir)).copied()
+    }
+
+    /// Number of directions listed.
+    pub fn len(&self) -> usize {
+        self.map.len()
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.map.is_empty()
+    }
+}
+
+/// s* of `dir`: from `table` when given (a missing direction is an error naming it), else the
+/// continuum conjugate-point test at relative tolerance [`tol::S_STAR_REL`].
+pub fn s_star_of(dir: &Direction, table: Option<&BoundaryTable>) -> Result<Real> {
+    match table {
+        Some(t) => t.get(dir).ok_or_else(|| {
+            Error::invalid(
+                "boundary",
+                format!("({}, {}, {})", dir.kappa, dir.tau, dir.omega),
+                "direction not listed in the boundary file",
+            )
+        }),
+        None => Ok(crate::boundary::continuum::critical_s(dir, tol::S_STAR_REL)?.s_star),
+    }
+}
+
+/// Format a real for CSV (shortest round-trip; `inf`).
+pub fn fmt_real(x: Real) -> String {
+    format!("{x}")
+}
+
+/// The CSV row of a plan (columns [`REACH_HEADER`]).
+pub fn reach_row(p: &RayPlan) -> Row {
+    vec![
+        fmt_real(p.dir.kappa),
+        fmt_real(p.dir.tau),
+        fmt_real(p.dir.omega),
+        fmt_real(p.s_star),
+        fmt_real(p.s_reached),
+        p.class.as_str().to_string(),
+        p.cause.map_or(String::new(), |c| c.as_str().to_string()),
+        fmt_real(p.azimuth),
+        p.roll.as_str().to_string(),
+        p.n_waypoints.to_string(),
+        fmt_real(p.path_cost),
+        fmt_real(p.max_joint_step),
+    ]
+}
+
+/// What the sweep plans per direction.
+#[derive(Debug, Clone)]
+pub struct ReachOptions {
+    /// Roll mode.
+    pub roll: RollMode,
+    /// Azimuths tried per ray (the best is kept).
+    pub azimuths: Vec<Real>,
+}
+
+/// Plan one direction and format its row.
+pub fn reach_one(
+    planner: &Planner,
+    dir: &Direction,
+    table: Option<&BoundaryTable>,
+    opts: &ReachOptions,
+) -> Result<Row> {
+    let s_star = s_star_of(dir, table)?;
+    let plan = planner.plan_best(dir, s_star, &opts.azimuths, opts.roll, false)?;
+    Ok(reach_row(&plan))
+}
+
+/// Run the sweep over `dirs` with the driver's options (output, resume, shard, progress).
+pub fn run(
+    planner: &Planner,
+    dirs: &[Direction],
+    table: Option<&BoundaryTable>,
+    opts: &ReachOptions,
+    sweep: &SweepOptions,
+) -> Result<SweepSummary> {
+    driver::run(
+        dirs,
+        |d| vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)],
+        |d| reach_one(planner, d, table, opts),
+        sweep,
+    )
+}
