@@ -656,8 +656,10 @@ impl Planner {
         Ok(if out.reachable == 0 { out.cause } else { None })
     }
 
-    /// Plan a ray trying every azimuth of `azimuths` and keep the best: testable before partial
-    /// before blocked, then the farthest s, then the lowest cost, then the first azimuth.
+    /// Plan a ray over the azimuths of `azimuths` (in order) and keep the best: testable before
+    /// partial before blocked, then the farthest s, then the lowest cost, then the first azimuth.
+    /// The first testable azimuth ends the search (a sweep needs a testable azimuth, not the
+    /// cheapest one; pass a single azimuth to compare costs).
     pub fn plan_best(
         &self,
         dir: &Direction,
@@ -683,7 +685,11 @@ impl Planner {
                 }
             };
             if better {
+                let done = p.class == ReachClass::Testable;
                 best = Some(p);
+                if done {
+                    break;
+                }
             }
         }
         best.ok_or_else(|| Error::invalid("azimuths", "[]", "need at least one azimuth"))
