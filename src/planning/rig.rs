@@ -196,7 +196,7 @@ impl Default for PlannerSettings {
             waypoints: 0,
             max_waypoints: 20_000,
             max_joint_step: 0.05,
-            redundancy_samples: 12,
+            redundancy_samples: 8,
             segment_check_step: 0.02,
             rod_capsules: 24,
             rod_clearance: 0.005,
