@@ -22,7 +22,9 @@ fn planner(waypoints: usize) -> Planner {
 fn bench_ray(c: &mut Criterion) {
     // A ray of the experiment's quarter-sphere that the seed rig can test.
     let d = Direction::new(0.3, 0.9, 0.3).unwrap();
-    let s_star = helixreach::boundary::continuum::critical_s(&d, 1e-10).unwrap().s_star;
+    let s_star = helixreach::boundary::continuum::critical_s(&d, 1e-10)
+        .unwrap()
+        .s_star;
     let mut g = c.benchmark_group("plan_one_ray");
     g.sample_size(10);
     for (name, n) in [("seed_density_2000", 2000), ("adaptive_default", 0)] {
@@ -41,7 +43,10 @@ fn bench_ray(c: &mut Criterion) {
     // Descartes-like rungs: fresh IK at each waypoint (j0 sampled at 8 values, 50 restarts).
     let p = planner(0);
     let rig = p.rig();
-    let ray = helixreach::planning::pose_path::Ray { dir: [d.kappa, d.tau, d.omega], azimuth: 0.0 };
+    let ray = helixreach::planning::pose_path::Ray {
+        dir: [d.kappa, d.tau, d.omega],
+        azimuth: 0.0,
+    };
     let wps = helixreach::planning::pose_path::pose_path(
         rig,
         &ray,
@@ -49,7 +54,9 @@ fn bench_ray(c: &mut Criterion) {
         &helixreach::planning::pose_path::Spacing::of(rig),
     )
     .unwrap();
-    let solver = helixreach::robot::IkSolver::new(p.model(), helixreach::robot::IkParams::default()).unwrap();
+    let solver =
+        helixreach::robot::IkSolver::new(p.model(), helixreach::robot::IkParams::default())
+            .unwrap();
     let mut ws = p.collision().workspace();
     let picks: Vec<_> = wps.iter().step_by((wps.len() / 20).max(1)).collect();
     g.bench_function("descartes_like_fresh_rungs_20_waypoints", |b| {
