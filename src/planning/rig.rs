@@ -840,7 +840,7 @@ mod tests {
             (
                 "half_extents = [0.40,",
                 "half_extents = [-0.40,",
-                "obstacle[0].shape.half_extents[0]",
+                "half_extents[0]",
             ),
             (
                 "max_velocity = 3.0",
