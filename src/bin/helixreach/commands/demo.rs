@@ -1,10 +1,578 @@
-//! `helixreach demo` (not implemented yet).
+//! `helixreach demo [--out DIR] [--quick]`: the main job on the embedded default rig.
+//!
+//! Stages (each timed, each writing its CSV into DIR so `helixreach plot` can redraw any figure):
+//! 1. **continuum boundary** on a Fibonacci half-sphere (the paper's 58,352 directions; 2,000
+//!    with `--quick`) and on a fan of directions in the plane ω = 0 → `boundary.csv`,
+//!    `boundary_omega0.csv`;
+//! 2. **DER statics check** on a sample of those directions against the continuum, and a
+//!    resolution sweep (n edges) for the speed-versus-error table → `der_check.csv`;
+//! 3. **reachability** of the experiment's quarter-sphere on the rig, in both roll modes →
+//!    `reach.csv`, `reach_omega0.csv`;
+//! 4. **DER dynamics** along the paper's Fig. 4 directions → `series_*.csv`;
+//! 5. **one planned trajectory** with the joint limits → `trajectory.csv`, `joint_limits.csv`;
+//! 6. **figures** (PNG and SVG) and the **report**: `report.md` and `report.json` with every
+//!    headline number and the settings that produced it.
+//!
+//! A stage whose library code is missing or fails is recorded as skipped, with the reason, in
+//! both reports; the figures that need it are not drawn. Progress goes to stderr.
+
+use anyhow::Context;
+use helixreach::boundary::der::{self, DerBoundaryParams};
+use helixreach::directions::{fibonacci, Direction};
+use helixreach::plot::{self, BoundaryRow, SpeedErrorRow};
+use rayon::prelude::*;
+use serde_json::{json, Map, Value};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// Arguments of `helixreach demo`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Output directory for figures, CSVs and the report.
+    #[arg(long, default_value = "figures")]
+    pub out: PathBuf,
+    /// A small, fast run (about a minute): fewer directions, coarser rods.
+    #[arg(long)]
+    pub quick: bool,
+    /// The rig: a rig file or the name of an embedded rig.
+    #[arg(long, default_value = "sawyer-seed")]
+    pub rig: String,
+}
+
+/// Every knob of a demo run (written into the report).
+#[derive(Debug, Clone, serde::Serialize)]
+struct Settings {
+    mode: &'static str,
+    rig: String,
+    threads: usize,
+    /// Continuum boundary: Fibonacci half-sphere size and relative tolerance on s*.
+    continuum_directions: usize,
+    continuum_tol_rel: f64,
+    /// Directions of the ω = 0 fan (κ ≥ 0, τ from −1 to 1).
+    fan_directions: usize,
+    /// Continuum tolerances timed for the speed-versus-error figure, and the reference.
+    continuum_tol_sweep: Vec<f64>,
+    continuum_tol_reference: f64,
+    /// Directions the speed sweeps are timed on.
+    speed_sample: usize,
+    /// DER statics: sample size, edges for the check, edges of the resolution sweep.
+    der_sample: usize,
+    der_n_edges: usize,
+    der_n_sweep: Vec<usize>,
+    der_tol_rel: f64,
+    nu: f64,
+    /// Reachability: quarter-sphere size per roll mode, and the fan size in the plane ω = 0.
+    reach_directions: usize,
+    reach_fan_directions: usize,
+    /// DER dynamics: edges per rod.
+    dynamics_n_edges: usize,
+}
+
+impl Settings {
+    fn new(quick: bool, rig: &str) -> Settings {
+        let threads = rayon::current_num_threads();
+        if quick {
+            Settings {
+                mode: "quick",
+                rig: rig.into(),
+                threads,
+                continuum_directions: 2000,
+                continuum_tol_rel: 1e-8,
+                fan_directions: 91,
+                continuum_tol_sweep: vec![1e-3, 1e-5, 1e-8],
+                continuum_tol_reference: 1e-12,
+                speed_sample: 100,
+                der_sample: 6,
+                der_n_edges: 30,
+                der_n_sweep: vec![15, 30],
+                der_tol_rel: 1e-6,
+                nu: 0.33,
+                reach_directions: 120,
+                reach_fan_directions: 31,
+                dynamics_n_edges: 20,
+            }
+        } else {
+            Settings {
+                mode: "full",
+                rig: rig.into(),
+                threads,
+                continuum_directions: 58_352,
+                continuum_tol_rel: 1e-8,
+                fan_directions: 361,
+                continuum_tol_sweep: vec![1e-3, 1e-4, 1e-6, 1e-8, 1e-10],
+                continuum_tol_reference: 1e-13,
+                speed_sample: 2000,
+                der_sample: 40,
+                der_n_edges: 100,
+                der_n_sweep: vec![25, 50, 100, 200],
+                der_tol_rel: 1e-8,
+                nu: 0.33,
+                reach_directions: 2000,
+                reach_fan_directions: 91,
+                dynamics_n_edges: 50,
+            }
+        }
+    }
+}
+
+/// Progress on stderr with the elapsed time.
+struct Progress {
+    t0: Instant,
+}
+
+impl Progress {
+    fn say(&self, stage: &str, msg: impl AsRef<str>) {
+        eprintln!(
+            "[{:>6.1} s] {stage}: {}",
+            self.t0.elapsed().as_secs_f64(),
+            msg.as_ref()
+        );
+    }
+}
+
+/// What a stage produced for the report.
+#[derive(Debug)]
+enum Outcome {
+    Done(Map<String, Value>),
+    Skipped(String),
+}
+
+/// Everything the run accumulates.
+struct Run {
+    out: PathBuf,
+    settings: Settings,
+    progress: Progress,
+    stages: Vec<(String, Outcome, f64)>,
+    figures: Vec<String>,
+    speed_rows: Vec<SpeedErrorRow>,
+    boundary: Vec<BoundaryRow>,
+    fan: Vec<BoundaryRow>,
+    reach: Vec<plot::ReachRow>,
+    reach_fan: Vec<plot::ReachRow>,
+    series: Vec<plot::Series>,
+    /// (rows, limits, s*, subtitle) of the planned trajectory.
+    trajectory: Option<(Vec<plot::TrajectoryRow>, Vec<plot::JointLimit>, f64, String)>,
+}
+
+impl Run {
+    /// Run `f` as stage `name`, timing it; an error becomes a skipped stage with its message.
+    fn stage(&mut self, name: &str, f: impl FnOnce(&mut Run) -> anyhow::Result<Outcome>) {
+        self.progress.say(name, "start");
+        let t = Instant::now();
+        let outcome = match f(self) {
+            Ok(o) => o,
+            Err(e) => Outcome::Skipped(format!("failed: {e:#}")),
+        };
+        let secs = t.elapsed().as_secs_f64();
+        match &outcome {
+            Outcome::Done(_) => self.progress.say(name, format!("done in {secs:.1} s")),
+            Outcome::Skipped(r) => self.progress.say(name, format!("SKIPPED: {r}")),
+        }
+        self.stages.push((name.to_string(), outcome, secs));
+    }
+
+    /// Render one figure as PNG and SVG (`stem.png`, `stem.svg`); failures are reported.
+    fn figure(&mut self, stem: &str, f: impl Fn(&Path) -> helixreach::Result<()>) {
+        for ext in ["png", "svg"] {
+            let name = format!("{stem}.{ext}");
+            match f(&self.out.join(&name)) {
+                Ok(()) => self.figures.push(name),
+                Err(e) => self
+                    .progress
+                    .say("figures", format!("{name} not drawn: {e}")),
+            }
+        }
+    }
+}
+
+fn write_csv(path: &Path, text: &str) -> anyhow::Result<()> {
+    helixreach::io::write_atomic(path, text.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+fn boundary_csv(rows: &[BoundaryRow], est: &[f64]) -> String {
+    let mut s = String::from(
+        "dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error\n",
+    );
+    for (r, e) in rows.iter().zip(est) {
+        let p = if r.s_star.is_finite() {
+            r.dir.at(r.s_star)
+        } else {
+            [f64::INFINITY; 3]
+        };
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{}",
+            r.dir.kappa,
+            r.dir.tau,
+            r.dir.omega,
+            r.s_star,
+            p[0],
+            p[1],
+            p[2],
+            r.method,
+            r.resolution,
+            e
+        );
+    }
+    s
+}
+
+/// Directions in the plane ω = 0, κ ≥ 0, from −τ̂ to +τ̂ (both ends excluded: the τ axis is the
+/// degenerate straight rod).
+fn omega0_fan(n: usize) -> Vec<Direction> {
+    (1..=n)
+        .filter_map(|i| {
+            let a = -std::f64::consts::FRAC_PI_2 + std::f64::consts::PI * i as f64 / (n + 1) as f64;
+            Direction::new(a.cos(), a.sin(), 0.0).ok()
+        })
+        .collect()
+}
+
+fn stats(v: &[f64]) -> (f64, f64, f64) {
+    let mut f: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if f.is_empty() {
+        return (f64::NAN, f64::NAN, f64::NAN);
+    }
+    f.sort_by(f64::total_cmp);
+    (f[0], f[f.len() / 2], f[f.len() - 1])
+}
+
+/// Stage 2: DER statics on a sample of the continuum directions.
+fn der_check(run: &mut Run) -> anyhow::Result<Outcome> {
+    let st = run.settings.clone();
+    if run.boundary.is_empty() {
+        return Ok(Outcome::Skipped(
+            "needs the continuum boundary (stage 1) as the reference".into(),
+        ));
+    }
+    // An even spread through the Fibonacci list, skipping rays stable to s_max.
+    let finite: Vec<&BoundaryRow> = run
+        .boundary
+        .iter()
+        .filter(|r| r.s_star.is_finite())
+        .collect();
+    let stride = (finite.len() / st.der_sample.max(1)).max(1);
+    let sample: Vec<&BoundaryRow> = finite
+        .iter()
+        .step_by(stride)
+        .take(st.der_sample)
+        .copied()
+        .collect();
+    let mut csv = String::from(
+        "dir_kappa,dir_tau,dir_omega,s_star_continuum,n_edges,s_star_der,rel_diff,seconds\n",
+    );
+    let mut out = Map::new();
+    let mut ns = st.der_n_sweep.clone();
+    if !ns.contains(&st.der_n_edges) {
+        ns.push(st.der_n_edges);
+    }
+    ns.sort_unstable();
+    let mut per_n = Vec::new();
+    for &n in &ns {
+        let p = DerBoundaryParams {
+            n_edges: n,
+            nu: st.nu,
+            tol_rel: st.der_tol_rel,
+            ..Default::default()
+        };
+        let t = Instant::now();
+        let res: Vec<(f64, f64)> = sample
+            .par_iter()
+            .map(|r| {
+                let t = Instant::now();
+                let s = der::critical_s(&r.dir, &p)
+                    .map(|c| c.s_star)
+                    .unwrap_or(f64::NAN);
+                (s, t.elapsed().as_secs_f64())
+            })
+            .collect();
+        let wall = t.elapsed().as_secs_f64();
+        let mut rel = Vec::new();
+        let mut fails = 0;
+        let mut cpu = 0.0;
+        for (r, (s, secs)) in sample.iter().zip(&res) {
+            let d = (s - r.s_star).abs() / r.s_star;
+            if d.is_finite() {
+                rel.push(d);
+            } else {
+                fails += 1;
+            }
+            cpu += secs;
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{n},{s},{d},{secs}",
+                r.dir.kappa, r.dir.tau, r.dir.omega, r.s_star
+            );
+        }
+        let (_, med, max) = stats(&rel);
+        let per_dir = cpu / sample.len() as f64;
+        run.progress.say(
+            "der check",
+            format!("n = {n}: max rel diff {max:.2e}, median {med:.2e}, {:.1} ms/direction, {fails} failed", 1e3 * per_dir),
+        );
+        if !rel.is_empty() {
+            run.speed_rows.push(SpeedErrorRow {
+                method: "DER statics".into(),
+                resolution: format!("n={n}"),
+                time_per_direction_s: per_dir,
+                max_rel_err: max,
+                median_rel_err: med,
+            });
+        }
+        per_n.push(json!({
+            "n_edges": n,
+            "directions": sample.len(),
+            "failed": fails,
+            "max_rel_diff_vs_continuum": max,
+            "median_rel_diff_vs_continuum": med,
+            "cpu_seconds_per_direction": per_dir,
+            "wall_seconds": wall,
+        }));
+        if n == st.der_n_edges {
+            out.insert("n_edges".into(), json!(n));
+            out.insert("directions".into(), json!(sample.len()));
+            out.insert("failed".into(), json!(fails));
+            out.insert("max_rel_diff_vs_continuum".into(), json!(max));
+            out.insert("median_rel_diff_vs_continuum".into(), json!(med));
+            out.insert("cpu_seconds_per_direction".into(), json!(per_dir));
+        }
+    }
+    out.insert("resolution_sweep".into(), Value::Array(per_n));
+    write_csv(&run.out.join("der_check.csv"), &csv)?;
+    Ok(Outcome::Done(out))
+}
 
 /// Run `helixreach demo`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`helixreach demo` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let t0 = Instant::now();
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let settings = Settings::new(args.quick, &args.rig);
+    let mut run = Run {
+        out: args.out.clone(),
+        settings,
+        progress: Progress { t0 },
+        stages: Vec::new(),
+        figures: Vec::new(),
+        speed_rows: Vec::new(),
+        boundary: Vec::new(),
+        fan: Vec::new(),
+        reach: Vec::new(),
+        reach_fan: Vec::new(),
+        series: Vec::new(),
+        trajectory: None,
+    };
+    run.progress.say(
+        "demo",
+        format!(
+            "{} run on rig `{}` with {} threads into {}",
+            run.settings.mode,
+            run.settings.rig,
+            run.settings.threads,
+            args.out.display()
+        ),
+    );
+    run.stage("continuum boundary", |_| {
+        Ok(Outcome::Skipped(
+            "the continuum conjugate-point test (boundary::continuum) is not on main yet".into(),
+        ))
+    });
+    run.stage("der check", der_check);
+    run.stage("reachability", |_| {
+        Ok(Outcome::Skipped(
+            "the planner and reachability sweep (planning::planner, sweep::reach) are not on main yet".into(),
+        ))
+    });
+    run.stage("dynamics", |_| {
+        Ok(Outcome::Skipped(
+            "DER dynamics (rod::dynamics) is not on main yet".into(),
+        ))
+    });
+    run.stage("trajectory", |_| {
+        Ok(Outcome::Skipped(
+            "the planner (planning::planner) is not on main yet".into(),
+        ))
+    });
+    run.stage("figures", figures);
+    let total = t0.elapsed().as_secs_f64();
+    write_reports(&run, total)?;
+    run.progress.say(
+        "demo",
+        format!(
+            "finished in {total:.1} s; report in {}",
+            args.out.join("report.md").display()
+        ),
+    );
+    Ok(())
+}
+
+fn figures(run: &mut Run) -> anyhow::Result<Outcome> {
+    if !run.boundary.is_empty() {
+        let b = run.boundary.clone();
+        run.figure("boundary3d", |p| plot::boundary3d::render(&b, p));
+    }
+    if !run.fan.is_empty() {
+        let (f, r) = (run.fan.clone(), run.reach_fan.clone());
+        run.figure("section", |p| plot::section::render(&f, &r, p));
+    }
+    if !run.reach.is_empty() {
+        let r = run.reach.clone();
+        let marked: Vec<Direction> = paper_directions().iter().map(|d| d.1).collect();
+        run.figure("directions", |p| {
+            plot::direction_map::render(&r, &marked, "paper's directions", p)
+        });
+    }
+    if !run.series.is_empty() {
+        let s = run.series.clone();
+        run.figure("error_vs_s", |p| plot::error_vs_s::render(&s, p));
+    }
+    if let Some((rows, limits, s_star, subtitle)) = run.trajectory.clone() {
+        let opts = plot::trajectory::TrajectoryOptions {
+            limits,
+            s_star: Some(s_star),
+            subtitle,
+        };
+        run.figure("trajectory", |p| plot::trajectory::render(&rows, &opts, p));
+    }
+    if !run.speed_rows.is_empty() {
+        let rows = run.speed_rows.clone();
+        let mut csv =
+            String::from("method,resolution,time_per_direction_s,max_rel_err,median_rel_err\n");
+        for r in &rows {
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{}",
+                r.method, r.resolution, r.time_per_direction_s, r.max_rel_err, r.median_rel_err
+            );
+        }
+        write_csv(&run.out.join("speed_error.csv"), &csv)?;
+        run.figure("speed_error", |p| plot::speed_error::render(&rows, p));
+    }
+    let mut m = Map::new();
+    m.insert("files".into(), json!(run.figures.clone()));
+    Ok(Outcome::Done(m))
+}
+
+/// The paper's named directions: Fig. 4(b), Fig. 4(c) and the disturbance study of Fig. 5.
+fn paper_directions() -> Vec<(&'static str, Direction)> {
+    let r3 = 1.0 / 3f64.sqrt();
+    [
+        ("S = [0.594, 0.698, 0.4]", (0.594, 0.698, 0.4)),
+        ("S = [1, 1, −1]/√3", (r3, r3, -r3)),
+        ("S = [1, 1, 1]/√3", (r3, r3, r3)),
+    ]
+    .into_iter()
+    .filter_map(|(n, (k, t, w))| Direction::new(k, t, w).ok().map(|d| (n, d)))
+    .collect()
+}
+
+fn write_reports(run: &Run, total: f64) -> anyhow::Result<()> {
+    let mut stages = Map::new();
+    let mut skipped = Vec::new();
+    for (name, o, secs) in &run.stages {
+        let v = match o {
+            Outcome::Done(m) => {
+                let mut m = m.clone();
+                m.insert("status".into(), json!("done"));
+                m.insert("seconds".into(), json!(secs));
+                Value::Object(m)
+            }
+            Outcome::Skipped(r) => {
+                skipped.push(json!({ "stage": name, "reason": r }));
+                json!({ "status": "skipped", "reason": r, "seconds": secs })
+            }
+        };
+        stages.insert(name.replace(' ', "_"), v);
+    }
+    let report = json!({
+        "helixreach_version": env!("CARGO_PKG_VERSION"),
+        "settings": run.settings,
+        "total_seconds": total,
+        "stages": stages,
+        "figures": run.figures,
+        "skipped": skipped,
+    });
+    let text = serde_json::to_string_pretty(&report)?;
+    write_csv(&run.out.join("report.json"), &text)?;
+    write_csv(&run.out.join("report.md"), &markdown(run, &report, total))?;
+    Ok(())
+}
+
+fn num(v: &Value) -> String {
+    match v.as_f64() {
+        Some(x) if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) => format!("{x:.3e}"),
+        Some(x) if x.fract() == 0.0 => format!("{x}"),
+        Some(x) => format!("{x:.4}"),
+        None => v.to_string(),
+    }
+}
+
+fn markdown(run: &Run, report: &Value, total: f64) -> String {
+    let mut md = String::new();
+    let st = &run.settings;
+    let _ = writeln!(md, "# helixreach demo report ({} run)\n", st.mode);
+    let _ = writeln!(
+        md,
+        "Rig `{}`, {} threads, total {total:.1} s. Every number below is also in `report.json`, \
+         with the settings that produced it.\n",
+        st.rig, st.threads
+    );
+    let _ = writeln!(md, "| stage | status | seconds |\n|---|---|---|");
+    for (name, o, secs) in &run.stages {
+        let status = match o {
+            Outcome::Done(_) => "done".to_string(),
+            Outcome::Skipped(r) => format!("skipped — {r}"),
+        };
+        let _ = writeln!(md, "| {name} | {status} | {secs:.1} |");
+    }
+    for (name, o, _) in &run.stages {
+        if let Outcome::Done(m) = o {
+            let _ = writeln!(md, "\n## {name}\n");
+            for (k, v) in m {
+                match v {
+                    Value::Array(a) if a.iter().all(|x| x.is_object()) && !a.is_empty() => {
+                        let keys: Vec<String> = a[0]
+                            .as_object()
+                            .map(|o| o.keys().cloned().collect())
+                            .unwrap_or_default();
+                        let _ = writeln!(
+                            md,
+                            "**{k}**\n\n| {} |\n|{}",
+                            keys.join(" | "),
+                            "---|".repeat(keys.len())
+                        );
+                        for x in a {
+                            let cells: Vec<String> = keys.iter().map(|c| num(&x[c])).collect();
+                            let _ = writeln!(md, "| {} |", cells.join(" | "));
+                        }
+                        md.push('\n');
+                    }
+                    Value::Array(a) => {
+                        let items: Vec<String> = a
+                            .iter()
+                            .map(|x| x.as_str().map(str::to_string).unwrap_or_else(|| num(x)))
+                            .collect();
+                        let _ = writeln!(md, "- {k}: {}", items.join(", "));
+                    }
+                    _ => {
+                        let _ = writeln!(md, "- {k}: {}", num(v));
+                    }
+                }
+            }
+        }
+    }
+    let _ = writeln!(md, "\n## Figures\n");
+    for f in &run.figures {
+        if f.ends_with(".png") {
+            let _ = writeln!(md, "![{f}]({f})");
+        }
+    }
+    let _ = writeln!(
+        md,
+        "\n## Settings\n\n```json\n{}\n```",
+        serde_json::to_string_pretty(&report["settings"]).unwrap_or_default()
+    );
+    md
 }
