@@ -151,6 +151,7 @@ fn demo_quick_writes_report_and_figures() {
     let expect = [
         ("continuum_boundary", "boundary3d"),
         ("continuum_boundary", "section"),
+        ("continuum_boundary", "speed_error"),
         ("reachability", "directions"),
         ("dynamics", "error_vs_s"),
         ("trajectory", "trajectory"),

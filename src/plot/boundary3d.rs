@@ -1,6 +1,6 @@
 //! The stability boundary as a surface in (κ, τ, ω) space: the points s*·S̄ over the direction
 //! set, seen in an orthographic 3-D projection, coloured by s*, with a cutaway that opens the
-//! octant τ > 0, ω > 0 so that the stable region (the side of the origin, the straight rod) shows
+//! quadrant of (τ, ω) facing the camera so that the stable region (the side of the origin, the straight rod) shows
 //! as shaded cut faces.
 //!
 //! # From scattered directions to a surface
@@ -14,7 +14,8 @@
 //!
 //! # Projection
 //! Orthographic, camera in the direction c = (cos e·cos a, cos e·sin a, sin e) of (κ, τ, ω) with
-//! azimuth a = 40° from +κ toward +τ and elevation e = 25°; screen right r = (−sin a, cos a, 0),
+//! azimuth a = −50° from +κ toward +τ and elevation e = 25° (so the camera looks across the
+//! boundary's long axis, whose big lobes lie where τ·ω > 0); screen right r = (−sin a, cos a, 0),
 //! up u = c × r. Faces are painted far to near (painter's algorithm on the mean depth c·p); world
 //! units are equal on all three axes, so the surface is not distorted.
 
@@ -31,6 +32,11 @@ use std::path::Path;
 type P3 = [f64; 3];
 
 const N_THETA: usize = 24;
+/// Camera azimuth from +κ toward +τ (deg): looking from τ < 0, across the boundary's long
+/// axis (its big lobes lie where τ·ω > 0).
+const CAMERA_AZIMUTH_DEG: f64 = -50.0;
+/// Camera elevation above the κ-τ plane (deg).
+const CAMERA_ELEVATION_DEG: f64 = 25.0;
 /// A multiple of 4 so that φ = 0 and φ = 90° (the cut planes) are grid lines.
 const N_PHI: usize = 96;
 /// Largest number of records used for resampling (a regular stride through the rows).
@@ -150,7 +156,10 @@ fn dot(a: P3, b: P3) -> f64 {
 
 impl Camera {
     fn new() -> Camera {
-        let (a, e) = (40f64.to_radians(), 25f64.to_radians());
+        let (a, e) = (
+            CAMERA_AZIMUTH_DEG.to_radians(),
+            CAMERA_ELEVATION_DEG.to_radians(),
+        );
         let c = [e.cos() * a.cos(), e.cos() * a.sin(), e.sin()];
         let r = [-a.sin(), a.cos(), 0.0];
         // u = c × r
@@ -210,22 +219,43 @@ impl Figure for Boundary3d {
             font(style::TITLE).pos(at(HPos::Center, VPos::Center)),
         ))?;
 
-        // Box extents from the surface.
-        let pts = || self.grid.iter().flatten().map(|g| g.0);
-        let k_hi = pts().map(|p| p[0]).fold(0.0, f64::max) * 1.05;
-        let t_abs = pts().map(|p| p[1].abs()).fold(0.0, f64::max) * 1.05;
-        let w_abs = pts().map(|p| p[2].abs()).fold(0.0, f64::max) * 1.05;
-        let (k_hi, t_abs, w_abs) = (k_hi.max(1e-3), t_abs.max(1e-3), w_abs.max(1e-3));
+        let mut cam = Camera::new();
+        // The cut wedge: the quadrant of φ = atan2(ω̂, τ̂) that faces the camera.
+        let phi_cam = cam.c[2].atan2(cam.c[1]);
+        let quadrant = (((phi_cam + PI) / (0.5 * PI)).floor() as usize).min(3);
+        let (j_cut0, j_cut1) = (quadrant * N_PHI / 4, (quadrant + 1) * N_PHI / 4);
+        let in_wedge = |j: usize| j > j_cut0 && j < j_cut1;
+        let g = |i: usize, j: usize| self.grid[i * (N_PHI + 1) + j];
+
+        // Box extents from what is drawn (the surface outside the wedge, and the origin).
+        let mut lo = [0.0f64; 3];
+        let mut hi = [0.0f64; 3];
+        for i in 0..=N_THETA {
+            for j in (0..=N_PHI).filter(|j| !in_wedge(*j)) {
+                if let Some((p, _)) = g(i, j) {
+                    for a in 0..3 {
+                        lo[a] = lo[a].min(p[a]);
+                        hi[a] = hi[a].max(p[a]);
+                    }
+                }
+            }
+        }
+        for a in 0..3 {
+            let pad = 0.05 * (hi[a] - lo[a]).max(1e-3);
+            hi[a] += pad;
+            if a > 0 {
+                lo[a] -= pad;
+            }
+        }
         let corners: Vec<P3> = (0..8)
             .map(|m| {
                 [
-                    if m & 1 == 0 { 0.0 } else { k_hi },
-                    if m & 2 == 0 { -t_abs } else { t_abs },
-                    if m & 4 == 0 { -w_abs } else { w_abs },
+                    if m & 1 == 0 { lo[0] } else { hi[0] },
+                    if m & 2 == 0 { lo[1] } else { hi[1] },
+                    if m & 4 == 0 { lo[2] } else { hi[2] },
                 ]
             })
             .collect();
-        let mut cam = Camera::new();
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for p in &corners {
             let (x, y) = cam.screen(*p);
@@ -242,12 +272,10 @@ impl Figure for Boundary3d {
 
         // Back faces of the box with grid lines.
         let ticks = [
-            style::nice_ticks(0.0, k_hi, 5),
-            style::nice_ticks(-t_abs, t_abs, 6),
-            style::nice_ticks(-w_abs, w_abs, 6),
+            style::nice_ticks(lo[0], hi[0], 5),
+            style::nice_ticks(lo[1], hi[1], 6),
+            style::nice_ticks(lo[2], hi[2], 6),
         ];
-        let lo = [0.0, -t_abs, -w_abs];
-        let hi = [k_hi, t_abs, w_abs];
         for axis in 0..3 {
             // The face perpendicular to `axis` on the side away from the camera.
             let v = if cam.c[axis] > 0.0 {
@@ -290,10 +318,8 @@ impl Figure for Boundary3d {
             root.draw(&PathElement::new(closed, style::GREY.stroke_width(1)))?;
         }
 
-        // Faces: the surface outside the cut wedge 0 < φ < 90°, and the two cut faces.
-        let g = |i: usize, j: usize| self.grid[i * (N_PHI + 1) + j];
+        // Faces: the surface outside the cut wedge, and the two cut faces.
         let mut faces: Vec<(f64, Face)> = Vec::new();
-        let (j_cut0, j_cut1) = (N_PHI / 2, 3 * N_PHI / 4);
         for i in 0..N_THETA {
             for j in 0..N_PHI {
                 if j >= j_cut0 && j < j_cut1 {
@@ -382,8 +408,8 @@ impl Figure for Boundary3d {
         }
         root.draw(&Text::new(
             "straight rod".to_string(),
-            (o.0 + 14, o.1 - 6),
-            font(style::LEGEND).pos(at(HPos::Left, VPos::Bottom)),
+            (o.0 - 14, o.1),
+            font(style::LEGEND).pos(at(HPos::Right, VPos::Center)),
         ))?;
 
         // Box edges toward the viewer carry the tick labels.
@@ -495,7 +521,10 @@ impl Figure for Boundary3d {
         )?;
 
         // Colour bar.
-        let (bx0, bx1, by0, by1) = (1170, 1200, 140, 760);
+        // Beside the box's right edge (after the ω tick labels and title), at most at 1170 px.
+        let box_right = corners.iter().map(|p| cam.px(*p).0).max().unwrap_or(1000);
+        let bx0 = (box_right + 190).min(1170);
+        let (bx1, by0, by1) = (bx0 + 30, 140, 760);
         for k in 0..(by1 - by0) {
             let t = 1.0 - k as f64 / (by1 - by0) as f64;
             root.draw(&PathElement::new(
@@ -529,8 +558,14 @@ impl Figure for Boundary3d {
 
         // Footnotes.
         let mut notes = vec![format!(
-            "{} directions; cut open at τ > 0, ω > 0 to show the stable side (shaded)",
-            self.n_rows
+            "{} directions; cut open at τ {} 0, ω {} 0 to show the stable side (shaded)",
+            self.n_rows,
+            if quadrant == 1 || quadrant == 2 {
+                ">"
+            } else {
+                "<"
+            },
+            if quadrant >= 2 { ">" } else { "<" }
         )];
         if self.clipped > 0 {
             notes.push(format!(

@@ -17,6 +17,7 @@
 //! both reports; the figures that need it are not drawn. Progress goes to stderr.
 
 use anyhow::Context;
+use helixreach::boundary::continuum;
 use helixreach::boundary::der::{self, DerBoundaryParams};
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::plot::{self, BoundaryRow, SpeedErrorRow};
@@ -239,6 +240,120 @@ fn stats(v: &[f64]) -> (f64, f64, f64) {
     (f[0], f[f.len() / 2], f[f.len() - 1])
 }
 
+/// Stage 1: the continuum boundary on the half-sphere and the ω = 0 fan, plus its tolerance
+/// sweep for the speed-versus-error figure.
+fn continuum_stage(run: &mut Run) -> anyhow::Result<Outcome> {
+    let st = run.settings.clone();
+    let solve = |dirs: &[Direction], tol: f64| -> Vec<(f64, f64, f64)> {
+        dirs.par_iter()
+            .map(|d| {
+                let t = Instant::now();
+                match continuum::critical_s(d, tol) {
+                    Ok(c) => (c.s_star, c.est_error, t.elapsed().as_secs_f64()),
+                    Err(_) => (f64::NAN, f64::NAN, t.elapsed().as_secs_f64()),
+                }
+            })
+            .collect()
+    };
+    let resolution = format!("tol={:e}", st.continuum_tol_rel);
+    let to_rows = |dirs: &[Direction], res: &[(f64, f64, f64)]| -> (Vec<BoundaryRow>, Vec<f64>) {
+        dirs.iter()
+            .zip(res)
+            .filter(|(_, r)| !r.0.is_nan())
+            .map(|(d, r)| {
+                (
+                    BoundaryRow {
+                        dir: *d,
+                        s_star: r.0,
+                        method: "continuum".into(),
+                        resolution: resolution.clone(),
+                    },
+                    r.1,
+                )
+            })
+            .unzip()
+    };
+    let half = fibonacci(st.continuum_directions, false)?;
+    let t = Instant::now();
+    let res = solve(&half, st.continuum_tol_rel);
+    let wall = t.elapsed().as_secs_f64();
+    let failed = res.iter().filter(|r| r.0.is_nan()).count();
+    let (rows, est) = to_rows(&half, &res);
+    write_csv(&run.out.join("boundary.csv"), &boundary_csv(&rows, &est))?;
+    run.progress.say(
+        "continuum boundary",
+        format!("{} directions in {wall:.2} s ({failed} failed)", half.len()),
+    );
+    let fan_dirs = omega0_fan(st.fan_directions);
+    let fres = solve(&fan_dirs, st.continuum_tol_rel);
+    let (fan, fest) = to_rows(&fan_dirs, &fres);
+    write_csv(
+        &run.out.join("boundary_omega0.csv"),
+        &boundary_csv(&fan, &fest),
+    )?;
+
+    // Checks against closed forms: the κ axis (2π) and the ω axis (2·x₁, tan x₁ = x₁).
+    let axis = |k, t, w| {
+        continuum::critical_s(&Direction::new(k, t, w).unwrap(), st.continuum_tol_rel)
+            .map(|c| c.s_star)
+    };
+    let k_axis = axis(1.0, 0.0, 0.0)?;
+    let w_axis = axis(1e-6, 0.0, 1.0)?;
+    let greenhill = 2.0 * continuum::GREENHILL_X1;
+
+    // Tolerance sweep on a sample, against a tight reference.
+    let stride = (half.len() / st.speed_sample).max(1);
+    let sample: Vec<Direction> = half.iter().step_by(stride).copied().collect();
+    let reference = solve(&sample, st.continuum_tol_reference);
+    let mut sweep = Vec::new();
+    for &tol in &st.continuum_tol_sweep {
+        let r = solve(&sample, tol);
+        let rel: Vec<f64> = r
+            .iter()
+            .zip(&reference)
+            .filter(|(a, b)| a.0.is_finite() && b.0.is_finite())
+            .map(|(a, b)| (a.0 - b.0).abs() / b.0)
+            .collect();
+        let cpu = r.iter().map(|x| x.2).sum::<f64>() / r.len() as f64;
+        let (_, med, max) = stats(&rel);
+        run.speed_rows.push(SpeedErrorRow {
+            method: "continuum".into(),
+            resolution: format!("tol={tol:e}"),
+            time_per_direction_s: cpu,
+            max_rel_err: max,
+            median_rel_err: med,
+        });
+        sweep.push(json!({"tol_rel": tol, "cpu_seconds_per_direction": cpu, "max_rel_err": max, "median_rel_err": med}));
+    }
+    let s: Vec<f64> = rows.iter().map(|r| r.s_star).collect();
+    let (mn, med, mx) = stats(&s);
+    let n_inf = s.iter().filter(|x| x.is_infinite()).count();
+    let mut m = Map::new();
+    m.insert("directions".into(), json!(half.len()));
+    m.insert("failed".into(), json!(failed));
+    m.insert("tol_rel".into(), json!(st.continuum_tol_rel));
+    m.insert("wall_seconds".into(), json!(wall));
+    m.insert("s_star_min".into(), json!(mn));
+    m.insert("s_star_median".into(), json!(med));
+    m.insert("s_star_max_finite".into(), json!(mx));
+    m.insert("stable_to_s_max".into(), json!(n_inf));
+    m.insert("kappa_axis_s_star".into(), json!(k_axis));
+    m.insert(
+        "kappa_axis_rel_err_vs_2pi".into(),
+        json!((k_axis / std::f64::consts::TAU - 1.0).abs()),
+    );
+    m.insert("omega_axis_s_star".into(), json!(w_axis));
+    m.insert(
+        "omega_axis_rel_err_vs_greenhill".into(),
+        json!((w_axis / greenhill - 1.0).abs()),
+    );
+    m.insert("omega0_fan_directions".into(), json!(fan.len()));
+    m.insert("tolerance_sweep".into(), Value::Array(sweep));
+    run.boundary = rows;
+    run.fan = fan;
+    Ok(Outcome::Done(m))
+}
+
 /// Stage 2: DER statics on a sample of the continuum directions.
 fn der_check(run: &mut Run) -> anyhow::Result<Outcome> {
     let st = run.settings.clone();
@@ -374,11 +489,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.out.display()
         ),
     );
-    run.stage("continuum boundary", |_| {
-        Ok(Outcome::Skipped(
-            "the continuum conjugate-point test (boundary::continuum) is not on main yet".into(),
-        ))
-    });
+    run.stage("continuum boundary", continuum_stage);
     run.stage("der check", der_check);
     run.stage("reachability", |_| {
         Ok(Outcome::Skipped(
