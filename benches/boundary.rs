@@ -25,6 +25,24 @@ fn one_direction(c: &mut Criterion) {
     g.finish();
 }
 
+/// The peer: DER statics (n = 100, tol 1e-6) on the same direction, in the same run, so the
+/// continuum/DER time ratio can be read off directly.
+fn der_peer(c: &mut Criterion) {
+    use helixreach::boundary::der;
+    let d = Direction::new(0.594, 0.698, 0.4).unwrap();
+    let p = der::DerBoundaryParams {
+        n_edges: 100,
+        tol_rel: 1e-6,
+        ..Default::default()
+    };
+    let mut g = c.benchmark_group("der_critical_s");
+    g.sample_size(10);
+    g.bench_function("fig2b/n100_tol1e-6", |b| {
+        b.iter(|| der::critical_s(black_box(&d), &p).unwrap())
+    });
+    g.finish();
+}
+
 fn lattice(c: &mut Criterion) {
     let dirs = fibonacci(1000, false).unwrap();
     let mut g = c.benchmark_group("continuum_lattice");
@@ -40,5 +58,10 @@ fn lattice(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, one_direction, lattice);
+// Plots off: criterion's plotters backend panics when no system font is available.
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = one_direction, der_peer, lattice
+}
 criterion_main!(benches);
