@@ -3,8 +3,12 @@
 //! with random restarts), and a whole-configuration self-collision check (Sawyer).
 //! Success rates are not a criterion figure: `cargo run --release --example ik_report`.
 //!
+//! Times are this thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`), so other processes sharing the
+//! cores do not inflate them.
+//!
 //! Run: `cargo bench --bench robot`
 
+use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{criterion_group, criterion_main, Criterion};
 use helixreach::robot::k_bridge::KRobot;
 use helixreach::robot::{CollisionModel, IkParams, IkSolver, IkTarget, Jacobian, RobotModel};
@@ -13,6 +17,47 @@ use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 use std::time::Duration;
 
+/// Thread CPU time in nanoseconds.
+#[derive(Debug, Clone, Copy)]
+struct ThreadCpuTime;
+
+extern "C" {
+    fn clock_gettime(clk_id: i32, tp: *mut [i64; 2]) -> i32;
+}
+
+fn thread_cpu_ns() -> u64 {
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut ts = [0i64; 2];
+    // SAFETY: `ts` has the layout of `struct timespec` on 64-bit Linux and outlives the call.
+    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    ts[0] as u64 * 1_000_000_000 + ts[1] as u64
+}
+
+impl Measurement for ThreadCpuTime {
+    type Intermediate = u64;
+    type Value = u64;
+    fn start(&self) -> u64 {
+        thread_cpu_ns()
+    }
+    fn end(&self, i: u64) -> u64 {
+        thread_cpu_ns() - i
+    }
+    fn add(&self, a: &u64, b: &u64) -> u64 {
+        a + b
+    }
+    fn zero(&self) -> u64 {
+        0
+    }
+    fn to_f64(&self, v: &u64) -> f64 {
+        *v as f64
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        static WALL: WallTime = WallTime;
+        WALL.formatter()
+    }
+}
+
 fn configs(m: &RobotModel, n: usize, seed: u64) -> Vec<Vec<f64>> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     (0..n)
@@ -20,7 +65,7 @@ fn configs(m: &RobotModel, n: usize, seed: u64) -> Vec<Vec<f64>> {
         .collect()
 }
 
-fn kinematics(c: &mut Criterion) {
+fn kinematics<M: Measurement>(c: &mut Criterion<M>) {
     let m = RobotModel::load("sawyer", None).unwrap();
     let k = KRobot::new(&m).unwrap();
     let qs = configs(&m, 1024, 1);
@@ -57,7 +102,7 @@ fn kinematics(c: &mut Criterion) {
     g.finish();
 }
 
-fn inverse_kinematics(c: &mut Criterion) {
+fn inverse_kinematics<M: Measurement>(c: &mut Criterion<M>) {
     let m = RobotModel::load("sawyer", None).unwrap();
     let k = KRobot::new(&m).unwrap();
     let poses: Vec<_> = configs(&m, 64, 2)
@@ -101,7 +146,7 @@ fn inverse_kinematics(c: &mut Criterion) {
     g.finish();
 }
 
-fn collision(c: &mut Criterion) {
+fn collision<M: Measurement>(c: &mut Criterion<M>) {
     let m = RobotModel::load("sawyer", None).unwrap();
     let cm = CollisionModel::for_model(&m).unwrap();
     let mut ws = cm.workspace();
@@ -124,5 +169,9 @@ fn collision(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, kinematics, inverse_kinematics, collision);
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots().with_measurement(ThreadCpuTime);
+    targets = kinematics, inverse_kinematics, collision
+}
 criterion_main!(benches);

@@ -70,6 +70,49 @@ fn main() -> anyhow::Result<()> {
     };
 
     println!("robot {robot} ({dof} joints), {n} random reachable poses, seeds: ChaCha8 2024");
+    // Kinematics and collision, CPU time per call (batch of 1e6 / 1e5 calls).
+    {
+        let qs: Vec<Vec<Real>> = (0..1024)
+            .map(|_| m.random_config(&mut rng)[..dof].to_vec())
+            .collect();
+        let per_call = |calls: usize, f: &mut dyn FnMut(usize)| -> f64 {
+            let c0 = cpu_time();
+            for i in 0..calls {
+                f(i & 1023);
+            }
+            1e9 * (cpu_time() - c0) / calls as f64
+        };
+        let mut acc = 0.0;
+        let fk = per_call(1_000_000, &mut |i| {
+            acc += std::hint::black_box(m.chain().tool_pose(&qs[i])).pos.x
+        });
+        let mut jac = helixreach::robot::Jacobian::zeros();
+        let jt = per_call(1_000_000, &mut |i| {
+            acc += std::hint::black_box(m.chain().jacobian(&qs[i], &mut jac)).pos.x
+        });
+        let kfk = per_call(100_000, &mut |i| {
+            acc += std::hint::black_box(k.tool_pose(&qs[i])).pos.x
+        });
+        let kj = per_call(100_000, &mut |i| {
+            k.arm.set_joint_positions_unchecked(&qs[i]);
+            k.arm.update_transforms();
+            acc += std::hint::black_box(k::jacobian(&k.arm))[(0, 0)]
+        });
+        let cm = helixreach::robot::CollisionModel::for_model(&m)?;
+        let mut ws = cm.workspace();
+        let mut hits = 0usize;
+        let col = per_call(100_000, &mut |i| {
+            hits += usize::from(cm.check(&qs[i], &mut ws, None).is_some())
+        });
+        println!(
+            "CPU time per call: FK tool {fk:.0} ns (k {kfk:.0} ns, ratio {:.1}), Jacobian {jt:.0} ns (k {kj:.0} ns, ratio {:.1}), self-collision check {col:.0} ns ({} body pairs, {:.1} % of random configs in collision) [{}]",
+            kfk / fk,
+            kj / jt,
+            cm.n_self_pairs(),
+            100.0 * hits as f64 / 100_000.0,
+            acc.is_finite()
+        );
+    }
     for (label, free_roll) in [("full pose", false), ("free roll", true)] {
         let (mut ok, mut times) = (0usize, Vec::with_capacity(n));
         let c0 = cpu_time();

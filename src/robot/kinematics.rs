@@ -237,12 +237,16 @@ impl Chain {
     #[inline]
     pub fn tool_pose(&self, q: &[Real]) -> Frame {
         debug_assert_eq!(q.len(), self.dof);
+        // The sines are independent of the product chain: compute them first so that they overlap.
+        let mut sc = [(0.0, 1.0); MAX_DOF];
+        for (x, &qi) in sc.iter_mut().zip(q) {
+            *x = qi.sin_cos();
+        }
         let mut rot = Mat3::identity();
         let mut pos = Vec3::zeros();
-        for (c, &qi) in self.pre.iter().zip(q) {
+        for (c, &(s, co)) in self.pre.iter().zip(&sc[..self.dof]) {
             pos += rot * c.pos;
             let m = rot * c.rot;
-            let (s, co) = qi.sin_cos();
             rot = mul_rot_z(&m, s, co);
         }
         Frame {
