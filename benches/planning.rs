@@ -74,5 +74,9 @@ fn bench_ray(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_ray);
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = bench_ray
+}
 criterion_main!(benches);
