@@ -13,7 +13,7 @@
 //! # Encoding
 //! Testable rays are filled green; partial rays are rings and blocked rays filled dots, both in
 //! the colour of the cause that stopped them (Okabe–Ito palette). Marked directions (the
-//! experiment's) are black rings. The legend gives each category's share per roll mode.
+//! experiment's) are black crosses. The legend gives each category's share per roll mode.
 
 use super::records::{Cause, ReachClass, ReachRow};
 use super::style::{self, FAMILY};
@@ -159,6 +159,25 @@ impl DirectionMap {
     }
 }
 
+/// A black × of half-size `r` on a white halo (the marked directions).
+fn cross<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    (x, y): (i32, i32),
+    r: i32,
+) -> DrawResult<DB> {
+    for (w, c) in [(7, WHITE), (3, style::BLACK)] {
+        root.draw(&PathElement::new(
+            vec![(x - r, y - r), (x + r, y + r)],
+            c.stroke_width(w),
+        ))?;
+        root.draw(&PathElement::new(
+            vec![(x - r, y + r), (x + r, y - r)],
+            c.stroke_width(w),
+        ))?;
+    }
+    Ok(())
+}
+
 impl Figure for DirectionMap {
     fn size(&self) -> (u32, u32) {
         let w = self.panel_w() * self.panels.len() as i32 + self.legend_w();
@@ -235,7 +254,7 @@ impl Figure for DirectionMap {
                     r * (-40f64).to_radians().sin(),
                 );
                 root.draw(&Text::new(
-                    format!("κ̂={kap}"),
+                    format!("κ/s={kap}"),
                     (lx + 4, ly + 2),
                     font(style::TICK * 0.75).color(&style::darken(style::GREY, 0.3)),
                 ))?;
@@ -278,11 +297,7 @@ impl Figure for DirectionMap {
                 }
             }
             for &(x, y) in &self.marked {
-                root.draw(&Circle::new(
-                    to_px(x, y),
-                    rm_i + 5,
-                    style::BLACK.stroke_width(2),
-                ))?;
+                cross(&root, to_px(x, y), rm_i + 6)?;
             }
             root.draw(&PathElement::new(bg, style::BLACK.stroke_width(2)))?;
             // Axis words.
@@ -418,7 +433,7 @@ impl Figure for DirectionMap {
         }
         if !self.marked.is_empty() {
             y += 8;
-            root.draw(&Circle::new((lx + 14, y), 10, style::BLACK.stroke_width(2)))?;
+            cross(&root, (lx + 14, y), 10)?;
             root.draw(&Text::new(
                 format!("{} ({})", self.marked_label, self.marked.len()),
                 (lx + 34, y),

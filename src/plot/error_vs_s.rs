@@ -1,6 +1,7 @@
 //! Helix error e versus the distance along the ray ‖S‖ = s, from DER dynamics series — the seed
 //! paper's Fig. 4(b, c). The instability shows as a jump of e; a series' detected instability
-//! distance s_dyn (when known) is drawn as a dashed vertical line in the series' colour.
+//! distance s_dyn (when known) is drawn as a dashed vertical line in the series' colour, and a
+//! reference s* (e.g. the continuum boundary) as a dotted one.
 
 use super::records::Series;
 use super::style::{self, FAMILY};
@@ -85,10 +86,13 @@ impl Figure for ErrorVsS<'_> {
 
         for (i, s) in self.series.iter().enumerate() {
             let c = style::series(i);
-            let label = match s.s_detected {
-                Some(v) => format!("{} (s_dyn = {v:.3})", s.label),
-                None => s.label.clone(),
-            };
+            let mut label = s.label.clone();
+            if let Some(v) = s.s_detected {
+                label += &format!(": s_dyn = {v:.3} (dashed)");
+            }
+            if let Some(v) = s.s_reference {
+                label += &format!(", s* = {v:.3} (dotted)");
+            }
             chart
                 .draw_series(LineSeries::new(
                     s.rows.iter().map(|r| (r.s, r.error)),
@@ -98,6 +102,14 @@ impl Figure for ErrorVsS<'_> {
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x - 4, y), (x + 22, y)], c.stroke_width(3))
                 });
+            if let Some(v) = s.s_reference.filter(|v| v.is_finite()) {
+                chart.draw_series(DottedLineSeries::new(
+                    [(v, e_lo), (v, e_hi)],
+                    0,
+                    9,
+                    move |p| Circle::new(p, 2, c.filled()),
+                ))?;
+            }
             if let Some(v) = s.s_detected.filter(|v| v.is_finite()) {
                 chart.draw_series(DashedLineSeries::new(
                     [(v, e_lo), (v, e_hi)],

@@ -174,6 +174,8 @@ pub struct Series {
     pub rows: Vec<SeriesRow>,
     /// Detected instability distance s_dyn, drawn as a marker when known.
     pub s_detected: Option<Real>,
+    /// A reference instability distance (e.g. the continuum s*), drawn as a dotted line.
+    pub s_reference: Option<Real>,
 }
 
 /// One row of the speed-versus-error table of boundary methods.
@@ -413,6 +415,7 @@ pub fn read_series(path: &Path) -> Result<Series> {
             .unwrap_or_default(),
         rows,
         s_detected: None,
+        s_reference: None,
     })
 }
 

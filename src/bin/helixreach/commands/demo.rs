@@ -20,7 +20,12 @@ use anyhow::Context;
 use helixreach::boundary::continuum;
 use helixreach::boundary::der::{self, DerBoundaryParams};
 use helixreach::directions::{fibonacci, Direction};
+use helixreach::math::tol;
+use helixreach::planning::planner::{Planner, RayPlan};
+use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::plot::{self, BoundaryRow, SpeedErrorRow};
+use helixreach::rod::dynamics::{simulate_ray, SimParams, Simulation};
+use helixreach::sweep::reach;
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
@@ -66,8 +71,13 @@ struct Settings {
     /// Reachability: quarter-sphere size per roll mode, and the fan size in the plane ω = 0.
     reach_directions: usize,
     reach_fan_directions: usize,
-    /// DER dynamics: edges per rod.
+    /// DER dynamics (paper-sim rod): rays simulated (the paper's Fig. 4 directions first),
+    /// edges, time step (s), ray speed ds/dt (1/s), sample spacing in s.
+    dynamics_rays: usize,
     dynamics_n_edges: usize,
+    dynamics_dt: f64,
+    dynamics_speed: f64,
+    dynamics_record_ds: f64,
 }
 
 impl Settings {
@@ -89,9 +99,13 @@ impl Settings {
                 der_n_sweep: vec![15, 30],
                 der_tol_rel: 1e-6,
                 nu: 0.33,
-                reach_directions: 120,
-                reach_fan_directions: 31,
+                reach_directions: 100,
+                reach_fan_directions: 25,
+                dynamics_rays: 1,
                 dynamics_n_edges: 20,
+                dynamics_dt: 2e-3,
+                dynamics_speed: 0.5,
+                dynamics_record_ds: 0.02,
             }
         } else {
             Settings {
@@ -111,7 +125,11 @@ impl Settings {
                 nu: 0.33,
                 reach_directions: 2000,
                 reach_fan_directions: 91,
+                dynamics_rays: 2,
                 dynamics_n_edges: 50,
+                dynamics_dt: 2e-3,
+                dynamics_speed: 0.1,
+                dynamics_record_ds: 0.01,
             }
         }
     }
@@ -354,6 +372,276 @@ fn continuum_stage(run: &mut Run) -> anyhow::Result<Outcome> {
     Ok(Outcome::Done(m))
 }
 
+/// Stage 3: reachability of the quarter-sphere in both roll modes (and the ω = 0 fan for the
+/// section figure).
+fn reach_stage(run: &mut Run) -> anyhow::Result<Outcome> {
+    let st = run.settings.clone();
+    let rig = Rig::load(&st.rig)?;
+    let planner = Planner::new(rig.clone())?;
+    let quarter = fibonacci(st.reach_directions, true)?;
+    let fan: Vec<Direction> = omega0_fan(st.reach_fan_directions);
+    let variants = [
+        ("fixed", RollMode::Fixed, vec![0.0]),
+        ("motor", RollMode::Motor, vec![0.0]),
+    ];
+    let mut all = Vec::new();
+    let mut all_fan = Vec::new();
+    let mut csv = String::from(
+        "dir_kappa,dir_tau,dir_omega,s_star,s_reached,class,cause,azimuth,roll_mode,n_waypoints,path_cost,max_joint_step\n",
+    );
+    let mut fan_csv = csv.clone();
+    let mut m = Map::new();
+    for (label, roll, azimuths) in &variants {
+        let plan_all = |dirs: &[Direction]| -> Vec<helixreach::Result<RayPlan>> {
+            dirs.par_iter()
+                .map(|d| {
+                    let s = continuum::critical_s(d, tol::S_STAR_REL)?.s_star;
+                    planner.plan_best(d, s, azimuths, *roll, false)
+                })
+                .collect()
+        };
+        let t = Instant::now();
+        let plans = plan_all(&quarter);
+        let wall = t.elapsed().as_secs_f64();
+        let fan_plans = plan_all(&fan);
+        let mut counts = [0usize; 3];
+        let mut causes: std::collections::BTreeMap<String, usize> = Default::default();
+        let mut errors = 0;
+        for (p, text, rows) in [
+            (&plans, &mut csv, &mut all),
+            (&fan_plans, &mut fan_csv, &mut all_fan),
+        ] {
+            for r in p {
+                match r {
+                    Ok(p) => {
+                        let row = reach::reach_row(p);
+                        let _ = writeln!(text, "{}", row.join(","));
+                        rows.push(plot::ReachRow {
+                            dir: p.dir,
+                            s_star: p.s_star,
+                            s_reached: p.s_reached,
+                            class: row[5].parse().map_err(anyhow::Error::msg)?,
+                            cause: row[6].parse().map_err(anyhow::Error::msg)?,
+                            roll_mode: label.to_string(),
+                        });
+                    }
+                    Err(_) => errors += 1,
+                }
+            }
+        }
+        for r in plans.iter().flatten() {
+            counts[match r.class {
+                helixreach::planning::planner::ReachClass::Testable => 0,
+                helixreach::planning::planner::ReachClass::Partial => 1,
+                helixreach::planning::planner::ReachClass::Blocked => 2,
+            }] += 1;
+            if let Some(c) = r.cause {
+                *causes.entry(c.as_str().to_string()).or_default() += 1;
+            }
+        }
+        let n = quarter.len() as f64;
+        run.progress.say(
+            "reachability",
+            format!(
+                "roll {label}: {:.1} % testable, {:.1} % partial, {:.1} % blocked ({} directions, {wall:.1} s)",
+                100.0 * counts[0] as f64 / n,
+                100.0 * counts[1] as f64 / n,
+                100.0 * counts[2] as f64 / n,
+                quarter.len()
+            ),
+        );
+        m.insert(
+            format!("roll_{label}"),
+            json!({
+                "directions": quarter.len(),
+                "testable": counts[0],
+                "partial": counts[1],
+                "blocked": counts[2],
+                "errors": errors,
+                "fraction_testable": counts[0] as f64 / n,
+                "fraction_partial": counts[1] as f64 / n,
+                "fraction_blocked": counts[2] as f64 / n,
+                "causes": causes,
+                "azimuths": azimuths,
+                "wall_seconds": wall,
+            }),
+        );
+    }
+    write_csv(&run.out.join("reach.csv"), &csv)?;
+    write_csv(&run.out.join("reach_omega0.csv"), &fan_csv)?;
+    run.reach = all;
+    run.reach_fan = all_fan;
+    Ok(Outcome::Done(m))
+}
+
+/// Stage 5: one planned trajectory (the first paper direction that is testable in roll mode
+/// `fixed`, else the farthest partial one) with the joint limits.
+fn trajectory_stage(run: &mut Run) -> anyhow::Result<Outcome> {
+    let st = run.settings.clone();
+    let rig = Rig::load(&st.rig)?;
+    let planner = Planner::new(rig.clone())?;
+    let mut best: Option<(String, RayPlan)> = None;
+    for (name, d) in paper_directions() {
+        let s = continuum::critical_s(&d, tol::S_STAR_REL)?.s_star;
+        let p = planner.plan_best(&d, s, &[0.0], RollMode::Fixed, true)?;
+        let better = best
+            .as_ref()
+            .is_none_or(|(_, b)| p.s_reached / p.s_end > b.s_reached / b.s_end);
+        if better {
+            best = Some((name.to_string(), p));
+        }
+        if best
+            .as_ref()
+            .is_some_and(|b| b.1.class == helixreach::planning::planner::ReachClass::Testable)
+        {
+            break;
+        }
+    }
+    let Some((name, plan)) = best else {
+        return Ok(Outcome::Skipped(
+            "no paper direction could be planned".into(),
+        ));
+    };
+    if plan.s_reached <= 0.0 {
+        return Ok(Outcome::Skipped(format!(
+            "every paper direction is blocked in roll mode fixed ({name})"
+        )));
+    }
+    let traj = planner.trajectory(&plan)?;
+    write_csv(&run.out.join("trajectory.csv"), &traj.to_csv())?;
+    write_csv(&run.out.join("trajectory.json"), &traj.to_json())?;
+    let mut limits: Vec<plot::JointLimit> = planner
+        .model()
+        .joints()
+        .iter()
+        .map(|j| plot::JointLimit {
+            name: j.name.clone(),
+            lower: j.lower,
+            upper: j.upper,
+        })
+        .collect();
+    if rig.motor.range.0.is_finite() && rig.motor.range.1.is_finite() {
+        limits.push(plot::JointLimit {
+            name: "motor".into(),
+            lower: rig.motor.range.0,
+            upper: rig.motor.range.1,
+        });
+    }
+    let mut lcsv = String::from("joint,lower,upper\n");
+    for l in &limits {
+        let _ = writeln!(lcsv, "{},{},{}", l.name, l.lower, l.upper);
+    }
+    write_csv(&run.out.join("joint_limits.csv"), &lcsv)?;
+    let rows = plot::read_trajectory(&run.out.join("trajectory.csv"))?;
+    let mut m = Map::new();
+    m.insert("direction".into(), json!(name));
+    m.insert("roll_mode".into(), json!("fixed"));
+    m.insert(
+        "class".into(),
+        json!(format!("{:?}", plan.class).to_lowercase()),
+    );
+    m.insert("s_star".into(), json!(plan.s_star));
+    m.insert("s_reached".into(), json!(plan.s_reached));
+    m.insert("waypoints".into(), json!(rows.len()));
+    m.insert("max_joint_step_rad".into(), json!(plan.max_joint_step));
+    m.insert("path_cost".into(), json!(plan.path_cost));
+    m.insert("duration_s".into(), json!(traj.duration()));
+    run.trajectory = Some((
+        rows,
+        limits,
+        plan.s_star,
+        format!("{name}, roll mode fixed"),
+    ));
+    Ok(Outcome::Done(m))
+}
+
+/// Stage 4: DER dynamics along the paper's Fig. 4 directions: e versus s, the detected s_dyn
+/// against the continuum s*.
+fn dynamics_stage(run: &mut Run) -> anyhow::Result<Outcome> {
+    let st = run.settings.clone();
+    let dirs: Vec<(&str, Direction)> = paper_directions()
+        .into_iter()
+        .take(st.dynamics_rays)
+        .collect();
+    let params = SimParams {
+        n_edges: st.dynamics_n_edges,
+        dt: st.dynamics_dt,
+        speed: st.dynamics_speed,
+        record_ds: st.dynamics_record_ds,
+        ..Default::default()
+    };
+    let t = Instant::now();
+    let sims: Vec<anyhow::Result<(Simulation, f64)>> = dirs
+        .par_iter()
+        .map(|(_, d)| {
+            let t = Instant::now();
+            let sim = simulate_ray(d, &params, &mut |_| {})?;
+            Ok((sim, t.elapsed().as_secs_f64()))
+        })
+        .collect();
+    let wall = t.elapsed().as_secs_f64();
+    let mut rays = Vec::new();
+    let mut series = Vec::new();
+    for (k, ((name, d), r)) in dirs.iter().zip(sims).enumerate() {
+        let (sim, secs) = r.with_context(|| format!("simulating {name}"))?;
+        let s_cont = continuum::critical_s(d, tol::S_STAR_REL)?.s_star;
+        let s_dyn = sim.s_dyn();
+        let file = format!("series_{}.csv", k + 1);
+        let mut csv = String::from("t,s,kappa,tau,omega,error,energy\n");
+        for x in &sim.samples {
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{},{},{}",
+                x.t, x.s, x.kappa, x.tau, x.omega, x.error, x.energy
+            );
+        }
+        write_csv(&run.out.join(&file), &csv)?;
+        let rel = (s_dyn - s_cont).abs() / s_cont;
+        run.progress.say("dynamics", format!("{name}: s_dyn = {s_dyn:.4}, continuum s* = {s_cont:.4} ({:.2} %), {} steps, {secs:.1} s", 100.0 * rel, sim.steps));
+        if rel.is_finite() {
+            run.speed_rows.push(SpeedErrorRow {
+                method: "DER dynamics".into(),
+                resolution: format!("n={} v={}", st.dynamics_n_edges, st.dynamics_speed),
+                time_per_direction_s: secs,
+                max_rel_err: rel,
+                median_rel_err: rel,
+            });
+        }
+        rays.push(json!({
+            "direction": name,
+            "s_dyn": s_dyn,
+            "s_star_continuum": s_cont,
+            "rel_diff": rel,
+            "steps": sim.steps,
+            "seconds": secs,
+            "series_csv": file,
+        }));
+        series.push(plot::Series {
+            label: name.to_string(),
+            rows: sim
+                .samples
+                .iter()
+                .map(|x| plot::SeriesRow {
+                    t: x.t,
+                    s: x.s,
+                    error: x.error,
+                })
+                .collect(),
+            s_detected: s_dyn.is_finite().then_some(s_dyn),
+            s_reference: s_cont.is_finite().then_some(s_cont),
+        });
+    }
+    let mut m = Map::new();
+    m.insert("preset".into(), json!("paper-sim"));
+    m.insert("n_edges".into(), json!(params.n_edges));
+    m.insert("dt_s".into(), json!(params.dt));
+    m.insert("ray_speed_per_s".into(), json!(params.speed));
+    m.insert("wall_seconds".into(), json!(wall));
+    m.insert("rays".into(), Value::Array(rays));
+    run.series = series;
+    Ok(Outcome::Done(m))
+}
+
 /// Stage 2: DER statics on a sample of the continuum directions.
 fn der_check(run: &mut Run) -> anyhow::Result<Outcome> {
     let st = run.settings.clone();
@@ -491,21 +779,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     run.stage("continuum boundary", continuum_stage);
     run.stage("der check", der_check);
-    run.stage("reachability", |_| {
-        Ok(Outcome::Skipped(
-            "the planner and reachability sweep (planning::planner, sweep::reach) are not on main yet".into(),
-        ))
-    });
-    run.stage("dynamics", |_| {
-        Ok(Outcome::Skipped(
-            "DER dynamics (rod::dynamics) is not on main yet".into(),
-        ))
-    });
-    run.stage("trajectory", |_| {
-        Ok(Outcome::Skipped(
-            "the planner (planning::planner) is not on main yet".into(),
-        ))
-    });
+    run.stage("reachability", reach_stage);
+    run.stage("dynamics", dynamics_stage);
+    run.stage("trajectory", trajectory_stage);
     run.stage("figures", figures);
     let total = t0.elapsed().as_secs_f64();
     write_reports(&run, total)?;
