@@ -88,7 +88,9 @@ fn main() -> anyhow::Result<()> {
         });
         let mut jac = helixreach::robot::Jacobian::zeros();
         let jt = per_call(1_000_000, &mut |i| {
-            acc += std::hint::black_box(m.chain().jacobian(&qs[i], &mut jac)).pos.x
+            acc += std::hint::black_box(m.chain().jacobian(&qs[i], &mut jac))
+                .pos
+                .x
         });
         let kfk = per_call(100_000, &mut |i| {
             acc += std::hint::black_box(k.tool_pose(&qs[i])).pos.x
