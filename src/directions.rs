@@ -111,25 +111,12 @@ pub fn fibonacci(n: usize, quarter: bool) -> Result<Vec<Direction>> {
 
 /// Read directions from a CSV file with a header containing `dir_kappa,dir_tau,dir_omega`.
 pub fn read_csv(path: &Path) -> Result<Vec<Direction>> {
-    let file_err = |reason: String| Error::File {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| file_err(e.to_string()))?;
-    let headers = rdr.headers().map_err(|e| file_err(e.to_string()))?.clone();
-    let col = |name: &str| {
-        headers.iter().position(|h| h == name).ok_or_else(|| {
-            file_err(format!(
-                "missing column `{name}` (header must contain dir_kappa,dir_tau,dir_omega)"
-            ))
-        })
-    };
+    let mut table = crate::io::CsvInput::open(path)?;
+    let hint = "header must contain dir_kappa,dir_tau,dir_omega";
+    let col = |name: &str| table.column(name, hint);
     let (ik, it, iw) = (col("dir_kappa")?, col("dir_tau")?, col("dir_omega")?);
     let mut out = Vec::new();
-    for (k, rec) in rdr.records().enumerate() {
+    for (k, rec) in table.reader.records().enumerate() {
         let line = k + 2;
         let rec = rec.map_err(|e| Error::BadLine {
             path: path.to_path_buf(),
@@ -160,9 +147,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<Direction>> {
         out.push(d);
     }
     if out.is_empty() {
-        return Err(file_err(
-            "no directions (the direction set must not be empty)".into(),
-        ));
+        return Err(table.file_error("no directions (the direction set must not be empty)".into()));
     }
     Ok(out)
 }

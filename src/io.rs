@@ -58,3 +58,63 @@ mod tests {
         assert_eq!(n, 1, "temp file left behind");
     }
 }
+
+/// A CSV file opened for reading by column name; every error names the file.
+///
+/// ```
+/// let dir = std::env::temp_dir().join("helixreach-doc-csvin");
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let p = dir.join("a.csv");
+/// std::fs::write(&p, "x,y\n1,2\n").unwrap();
+/// let t = helixreach::io::CsvInput::open(&p).unwrap();
+/// assert_eq!(t.column("y", "").unwrap(), 1);
+/// assert!(t.column("z", "").unwrap_err().to_string().contains("missing column `z`"));
+/// ```
+#[derive(Debug)]
+pub struct CsvInput {
+    path: PathBuf,
+    headers: csv::StringRecord,
+    /// The reader, positioned at the first record.
+    pub reader: csv::Reader<std::fs::File>,
+}
+
+impl CsvInput {
+    /// Open `path` (fields trimmed) and read its header.
+    pub fn open(path: &Path) -> Result<Self> {
+        let file_err = |e: csv::Error| Error::File {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        };
+        let mut reader = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_path(path)
+            .map_err(file_err)?;
+        let headers = reader.headers().map_err(file_err)?.clone();
+        Ok(CsvInput {
+            path: path.to_path_buf(),
+            headers,
+            reader,
+        })
+    }
+
+    /// Index of column `name`; `hint` (e.g. "header must contain kappa,tau,omega") is appended
+    /// to the error when non-empty.
+    pub fn column(&self, name: &str, hint: &str) -> Result<usize> {
+        self.headers.iter().position(|h| h == name).ok_or_else(|| {
+            let hint = if hint.is_empty() {
+                String::new()
+            } else {
+                format!(" ({hint})")
+            };
+            self.file_error(format!("missing column `{name}`{hint}"))
+        })
+    }
+
+    /// An [`Error::File`] about this file.
+    pub fn file_error(&self, reason: String) -> Error {
+        Error::File {
+            path: self.path.clone(),
+            reason,
+        }
+    }
+}

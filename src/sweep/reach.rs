@@ -51,21 +51,8 @@ fn key_of(d: &Direction) -> [i64; 3] {
 impl BoundaryTable {
     /// Read a boundary CSV. Errors name the file, line and column.
     pub fn read(path: &Path) -> Result<BoundaryTable> {
-        let file_err = |reason: String| Error::File {
-            path: path.to_path_buf(),
-            reason,
-        };
-        let mut rdr = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .from_path(path)
-            .map_err(|e| file_err(e.to_string()))?;
-        let headers = rdr.headers().map_err(|e| file_err(e.to_string()))?.clone();
-        let col = |name: &str| {
-            headers
-                .iter()
-                .position(|h| h == name)
-                .ok_or_else(|| file_err(format!("missing column `{name}`")))
-        };
+        let mut table = crate::io::CsvInput::open(path)?;
+        let col = |name: &str| table.column(name, "");
         let cols = [
             col("dir_kappa")?,
             col("dir_tau")?,
@@ -73,7 +60,7 @@ impl BoundaryTable {
             col("s_star")?,
         ];
         let mut map = HashMap::new();
-        for (k, rec) in rdr.records().enumerate() {
+        for (k, rec) in table.reader.records().enumerate() {
             let line = k + 2;
             let bad = |field: &str, reason: String| Error::BadLine {
                 path: path.to_path_buf(),

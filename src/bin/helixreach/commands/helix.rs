@@ -78,26 +78,12 @@ fn pose_json(h: &Helix, p: &EndPose, nu: Real, c: Real, length: Real) -> serde_j
 pub const HEADER: &str = "kappa,tau,omega,px,py,pz,r00,r01,r02,r10,r11,r12,r20,r21,r22,motor_angle";
 
 fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::Result<()> {
-    let file_err = |reason: String| Error::File {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| file_err(e.to_string()))?;
-    let headers = rdr.headers().map_err(|e| file_err(e.to_string()))?.clone();
-    let col = |name: &str| {
-        headers.iter().position(|h| h == name).ok_or_else(|| {
-            file_err(format!(
-                "missing column `{name}` (header must contain kappa,tau,omega)"
-            ))
-        })
-    };
+    let mut table = helixreach::io::CsvInput::open(path)?;
+    let col = |name: &str| table.column(name, "header must contain kappa,tau,omega");
     let cols = [col("kappa")?, col("tau")?, col("omega")?];
     writeln!(out, "{HEADER}")?;
     let mut n_rows = 0usize;
-    for (k, rec) in rdr.records().enumerate() {
+    for (k, rec) in table.reader.records().enumerate() {
         let line = k + 2;
         let bad = |field: &str, reason: String| Error::BadLine {
             path: path.to_path_buf(),
@@ -133,7 +119,7 @@ fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::R
         n_rows += 1;
     }
     if n_rows == 0 {
-        return Err(file_err("no rows after the header".into()).into());
+        return Err(table.file_error("no rows after the header".into()).into());
     }
     Ok(())
 }
