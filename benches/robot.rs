@@ -8,7 +8,11 @@
 //!
 //! Run: `cargo bench --bench robot`
 
-use criterion::measurement::{Measurement, ValueFormatter, WallTime};
+#[path = "common/cpu_time.rs"]
+mod cpu_time;
+
+use cpu_time::ThreadCpuTime;
+use criterion::measurement::Measurement;
 use criterion::{criterion_group, criterion_main, Criterion};
 use helixreach::robot::k_bridge::KRobot;
 use helixreach::robot::{CollisionModel, IkParams, IkSolver, IkTarget, Jacobian, RobotModel};
@@ -16,47 +20,6 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 use std::time::Duration;
-
-/// Thread CPU time in nanoseconds.
-#[derive(Debug, Clone, Copy)]
-struct ThreadCpuTime;
-
-extern "C" {
-    fn clock_gettime(clk_id: i32, tp: *mut [i64; 2]) -> i32;
-}
-
-fn thread_cpu_ns() -> u64 {
-    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-    let mut ts = [0i64; 2];
-    // SAFETY: `ts` has the layout of `struct timespec` on 64-bit Linux and outlives the call.
-    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    ts[0] as u64 * 1_000_000_000 + ts[1] as u64
-}
-
-impl Measurement for ThreadCpuTime {
-    type Intermediate = u64;
-    type Value = u64;
-    fn start(&self) -> u64 {
-        thread_cpu_ns()
-    }
-    fn end(&self, i: u64) -> u64 {
-        thread_cpu_ns() - i
-    }
-    fn add(&self, a: &u64, b: &u64) -> u64 {
-        a + b
-    }
-    fn zero(&self) -> u64 {
-        0
-    }
-    fn to_f64(&self, v: &u64) -> f64 {
-        *v as f64
-    }
-    fn formatter(&self) -> &dyn ValueFormatter {
-        static WALL: WallTime = WallTime;
-        WALL.formatter()
-    }
-}
 
 fn configs(m: &RobotModel, n: usize, seed: u64) -> Vec<Vec<f64>> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
