@@ -118,32 +118,15 @@ pub fn read_csv(path: &Path) -> Result<Vec<Direction>> {
     let mut out = Vec::new();
     for (k, rec) in table.reader.records().enumerate() {
         let line = k + 2;
-        let rec = rec.map_err(|e| Error::BadLine {
-            path: path.to_path_buf(),
-            line,
-            field: "record".into(),
-            reason: e.to_string(),
-        })?;
-        let get = |i: usize, name: &str| -> Result<Real> {
-            let s = rec.get(i).unwrap_or("");
-            s.parse::<Real>().map_err(|_| Error::BadLine {
-                path: path.to_path_buf(),
-                line,
-                field: name.into(),
-                reason: format!("`{s}` is not a number"),
-            })
-        };
+        let rec = rec.map_err(|e| crate::io::bad_line(path, line, "record", e.to_string()))?;
+        let get = |i: usize, name: &str| crate::io::parse_field(path, line, &rec, i, name);
         let (a, b, c) = (
             get(ik, "dir_kappa")?,
             get(it, "dir_tau")?,
             get(iw, "dir_omega")?,
         );
-        let d = Direction::new(a, b, c).map_err(|e| Error::BadLine {
-            path: path.to_path_buf(),
-            line,
-            field: "direction".into(),
-            reason: e.to_string(),
-        })?;
+        let d = Direction::new(a, b, c)
+            .map_err(|e| crate::io::bad_line(path, line, "direction", e.to_string()))?;
         out.push(d);
     }
     if out.is_empty() {

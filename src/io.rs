@@ -118,3 +118,28 @@ impl CsvInput {
         }
     }
 }
+
+/// An [`Error::BadLine`] for `path` at 1-based `line`.
+pub fn bad_line(path: &Path, line: usize, field: &str, reason: String) -> Error {
+    Error::BadLine {
+        path: path.to_path_buf(),
+        line,
+        field: field.into(),
+        reason,
+    }
+}
+
+/// Parse column `col` (named `name`) of a CSV record at `line` as a number; the error names the
+/// file, line, field and the offending text. Non-finite values (`inf`, `NaN`) parse; callers
+/// that forbid them validate afterwards.
+pub fn parse_field(
+    path: &Path,
+    line: usize,
+    rec: &csv::StringRecord,
+    col: usize,
+    name: &str,
+) -> Result<f64> {
+    let s = rec.get(col).unwrap_or("");
+    s.parse::<f64>()
+        .map_err(|_| bad_line(path, line, name, format!("`{s}` is not a number")))
+}

@@ -62,12 +62,7 @@ impl BoundaryTable {
         let mut map = HashMap::new();
         for (k, rec) in table.reader.records().enumerate() {
             let line = k + 2;
-            let bad = |field: &str, reason: String| Error::BadLine {
-                path: path.to_path_buf(),
-                line,
-                field: field.into(),
-                reason,
-            };
+            let bad = |field: &str, reason: String| crate::io::bad_line(path, line, field, reason);
             let rec = rec.map_err(|e| bad("record", e.to_string()))?;
             let mut v = [0.0; 4];
             for (i, (&c, name)) in cols
@@ -75,10 +70,7 @@ impl BoundaryTable {
                 .zip(["dir_kappa", "dir_tau", "dir_omega", "s_star"])
                 .enumerate()
             {
-                let s = rec.get(c).unwrap_or("");
-                v[i] = s
-                    .parse::<Real>()
-                    .map_err(|_| bad(name, format!("`{s}` is not a number")))?;
+                v[i] = crate::io::parse_field(path, line, &rec, c, name)?;
             }
             let d =
                 Direction::new(v[0], v[1], v[2]).map_err(|e| bad("direction", e.to_string()))?;

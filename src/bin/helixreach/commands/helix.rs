@@ -85,19 +85,11 @@ fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::R
     let mut n_rows = 0usize;
     for (k, rec) in table.reader.records().enumerate() {
         let line = k + 2;
-        let bad = |field: &str, reason: String| Error::BadLine {
-            path: path.to_path_buf(),
-            line,
-            field: field.into(),
-            reason,
-        };
+        let bad = |field: &str, reason: String| helixreach::io::bad_line(path, line, field, reason);
         let rec = rec.map_err(|e| bad("record", e.to_string()))?;
         let mut v = [0.0; 3];
         for (j, name) in ["kappa", "tau", "omega"].iter().enumerate() {
-            let s = rec.get(cols[j]).unwrap_or("");
-            v[j] = s
-                .parse::<Real>()
-                .map_err(|_| bad(name, format!("`{s}` is not a number")))?;
+            v[j] = helixreach::io::parse_field(path, line, &rec, cols[j], name)?;
         }
         let h = Helix::new(v[0], v[1], v[2]).map_err(|e| {
             let field = match &e {
