@@ -302,10 +302,64 @@ impl Rig {
         iso_from(&(r * tool_from_director()), &p)
     }
 
+    /// The same rig with the clamped end moved to `origin` (base frame, m); the clamp's
+    /// orientation `[d1 d2 d3]` and everything else are kept. The seed experiment moved its clamp
+    /// between runs (`trajectories.csv` gives each run's position); `--clamp x,y,z` uses this.
+    ///
+    /// Errors: a non-finite coordinate → [`Error::InvalidParameter`] naming the rig, the field
+    /// `clamp.origin[i]` and the value.
+    ///
+    /// ```
+    /// use helixreach::planning::rig::Rig;
+    /// let rig = Rig::load("sawyer-seed").unwrap();
+    /// let moved = rig.with_clamp_origin([0.80, -0.10, -0.15]).unwrap();
+    /// let t = moved.straight_tool_pose().translation.vector;
+    /// assert!((t - nalgebra::Vector3::new(0.80, -0.10, -0.15 + 0.51)).norm() < 1e-12);
+    /// assert_eq!(moved.clamp.rotation, rig.clamp.rotation);
+    /// let e = rig.with_clamp_origin([0.8, f64::NAN, 0.0]).unwrap_err().to_string();
+    /// assert!(e.contains("clamp.origin[1]") && e.contains("NaN"), "{e}");
+    /// ```
+    pub fn with_clamp_origin(&self, origin: [Real; 3]) -> Result<Rig> {
+        for (i, v) in origin.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::invalid(
+                    format!("{}: clamp.origin[{i}] (clamp override)", self.source),
+                    v,
+                    "must be finite",
+                ));
+            }
+        }
+        let mut rig = self.clone();
+        rig.clamp.translation = nalgebra::Translation3::new(origin[0], origin[1], origin[2]);
+        Ok(rig)
+    }
+
     /// The motor angle making the material frame from the arm's frame: in [`RollMode::Fixed`]
     /// the arm holds the transported frame and the motor angle is `ω·s/c`.
     pub fn twist_ratio(&self) -> Real {
         self.rod.twist_ratio()
+    }
+}
+
+/// Parse a command-line triple `x,y,z` (e.g. `--clamp 0.85,-0.15,-0.144`) into three numbers.
+/// Non-finite values (`nan`, `inf`) parse: the consumer validates them and names the field
+/// (e.g. [`Rig::with_clamp_origin`]). Errors name `flag` and the text.
+///
+/// ```
+/// use helixreach::planning::rig::parse_xyz;
+/// assert_eq!(parse_xyz("--clamp", "0.85, -0.15,-0.144").unwrap(), [0.85, -0.15, -0.144]);
+/// assert!(parse_xyz("--clamp", "1,2").unwrap_err().to_string().contains("--clamp"));
+/// ```
+pub fn parse_xyz(flag: &str, text: &str) -> Result<[Real; 3]> {
+    let bad = || Error::invalid(flag, format!("`{text}`"), "expected three numbers x,y,z");
+    let v: Vec<Real> = text
+        .split(',')
+        .map(|x| x.trim().parse::<Real>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| bad())?;
+    match v.as_slice() {
+        [x, y, z] => Ok([*x, *y, *z]),
+        _ => Err(bad()),
     }
 }
 
