@@ -323,6 +323,126 @@ fn tau_axis_limit_and_kappa_zero_plane() {
     assert!(critical_s(&d, 1e-10).unwrap().s_star.is_infinite());
 }
 
+/// The κ → 0⁺ limit of the helix (κ, τ̂, ω̂): a straight rod clamped at both ends under the
+/// helix's axial compression `P = −(ω̂ − τ̂)τ̂ s²` and twisting moment `M = ω̂ s` (bending
+/// stiffness 1), computed independently of the Jacobi equation. The complex deflection
+/// `w = x + iy` satisfies `w'''' − iM w''' + P w'' = 0`, with characteristic roots `0, 0, ik₁, ik₂`,
+/// `k² − Mk − P = 0` ⇒ `k₁ = τ̂s`, `k₂ = (ω̂ − τ̂)s` (real: the discriminant is `(ω̂ − 2τ̂)²s²`).
+/// With `w = A + Bt + Ce^{ik₁t} + De^{ik₂t}` and `w = w' = 0` at both ends the determinant is
+/// `Δ = (e₁ − 1 − ik₁)·ik₂(e₂ − 1) − (e₂ − 1 − ik₂)·ik₁(e₁ − 1)`, `e_j = e^{ik_j}`, and
+/// `Δ·e^{−i(k₁+k₂)/2}` is purely imaginary. Its first sign change past s = 1 (scan 0.01, then
+/// bisection) is the limit s*. Needs `k₁ ≠ k₂`, `k₁, k₂ ≠ 0`.
+fn straight_rod_limit(tau: f64, omega: f64) -> f64 {
+    let g = |s: f64| {
+        let (k1, k2) = (tau * s, (omega - tau) * s);
+        // complex numbers as (re, im)
+        let mul = |a: (f64, f64), b: (f64, f64)| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
+        let ex = |x: f64| (x.cos(), x.sin());
+        let (e1, e2) = (ex(k1), ex(k2));
+        let a1 = (e1.0 - 1.0, e1.1 - k1);
+        let a2 = (e2.0 - 1.0, e2.1 - k2);
+        let t1 = mul(mul(a1, (0.0, k2)), (e2.0 - 1.0, e2.1));
+        let t2 = mul(mul(a2, (0.0, k1)), (e1.0 - 1.0, e1.1));
+        let d = (t1.0 - t2.0, t1.1 - t2.1);
+        let p = mul(d, ex(-0.5 * (k1 + k2)));
+        assert!(
+            p.0.abs() <= 1e-9 * (1.0 + p.1.abs()),
+            "not imaginary: {p:?}"
+        );
+        p.1
+    };
+    let h = 0.01;
+    let mut s = 1.0;
+    let mut prev = g(s);
+    loop {
+        let v = g(s + h);
+        if v.signum() != prev.signum() {
+            let (mut lo, mut hi) = (s, s + h);
+            for _ in 0..80 {
+                let mid = 0.5 * (lo + hi);
+                if g(mid).signum() == prev.signum() {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            return 0.5 * (lo + hi);
+        }
+        prev = v;
+        s += h;
+        assert!(s < 100.0, "no root for ({tau}, {omega})");
+    }
+}
+
+/// Issue 13: `boundary --method continuum` on `1e-160,1,0` returned s* = 1.3 with est_error
+/// 1e-15 (the limit is 2π): `det J = O(κ²)` underflowed. Every representable κ̂ > 0 — the decades
+/// 10⁻¹ … 10⁻³⁰⁰, the smallest normal and subnormals down to the smallest f64 — gives a result
+/// right to its `est_error` (plus the O(κ̂²) distance to the limit): against direct RK integration
+/// where κ̂ is large enough for it (κ̂ ≥ 1e-3), against the independent straight-rod limit
+/// ([`straight_rod_limit`], Greenhill on the ω axis) for κ̂ ≤ 1e-6, and mirror-symmetric.
+#[test]
+fn tiny_kappa_continuum_is_right_for_every_representable_kappa() {
+    let x1 = greenhill_x1();
+    // (τ̂, ω̂, limit s* as κ̂ → 0⁺)
+    let mut cases = vec![(0.0, 1.0, 2.0 * x1)];
+    for (t, w) in [(1.0f64, 0.0f64), (0.6, 0.8), (0.6, -0.8), (0.3, 0.9)] {
+        let n: f64 = (t * t + w * w).sqrt();
+        let (t, w) = (t / n, w / n);
+        cases.push((t, w, straight_rod_limit(t, w)));
+    }
+    assert!((cases[1].2 - 2.0 * PI).abs() < 1e-12, "{}", cases[1].2);
+    let mut kappas: Vec<f64> = (1..=300).map(|k| 10f64.powi(-k)).collect();
+    kappas.extend([
+        f64::MIN_POSITIVE,
+        1e-310,
+        1e-320,
+        f64::from_bits(1), // 4.9e-324, the smallest positive f64
+    ]);
+    for &(t, w, limit) in &cases {
+        for &k in &kappas {
+            let mut results = vec![];
+            for sign in [1.0, -1.0] {
+                let d = Direction::new(k, sign * t, sign * w).unwrap();
+                let r = critical_s(&d, 1e-12).unwrap();
+                assert!(
+                    r.s_star.is_finite() && r.est_error <= 1e-11 * r.s_star,
+                    "κ̂ = {k:e}, {d:?}: {r:?}"
+                );
+                if k <= 1e-6 {
+                    let bound = r.est_error + 1e-10 * limit;
+                    assert!(
+                        (r.s_star - limit).abs() <= bound,
+                        "κ̂ = {k:e}, {d:?}: s* = {} (est_error {:e}), limit {limit}",
+                        r.s_star,
+                        r.est_error
+                    );
+                } else if k >= 1e-3 && sign > 0.0 {
+                    let rk = rk_first_conjugate(
+                        d.kappa,
+                        d.tau,
+                        d.omega,
+                        1.0 / 1.33,
+                        0.01,
+                        1.0,
+                        r.s_star + 1.0,
+                    )
+                    .unwrap();
+                    assert!(
+                        ((rk - r.s_star) / rk).abs() < 1e-7,
+                        "κ̂ = {k:e}, {d:?}: {} vs RK {rk}",
+                        r.s_star
+                    );
+                }
+                results.push(r.s_star);
+            }
+            assert!(
+                (results[0] - results[1]).abs() <= 1e-11 * results[0],
+                "mirror, κ̂ = {k:e}: {results:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn independent_of_c() {
     for d in random_dirs(20, 11, 0.0) {

@@ -71,6 +71,40 @@ pub(crate) fn generator(kappa: Real, tau: Real, omega: Real, c: Real) -> Gen {
     a
 }
 
+/// Index of `β_z` (axial displacement) in `z = (α, β, δm, δn)`.
+pub(crate) const BETA_Z: usize = 5;
+/// Index of `δn_z` (axial force) in `z`.
+pub(crate) const DN_Z: usize = 11;
+
+/// The generator of the **κ-balanced** Jacobi system: `S·A·S⁻¹` with
+/// `S = diag(1, …, 1, 1/κ at β_z, 1, …, 1, κ at δn_z)`, i.e. the variables `β_z/κ` and `κ·δn_z`.
+///
+/// Why: as κ → 0 the helix tends to a straight rod, on which an axial force does not change the
+/// shape and the end cannot move axially to first order: the `δn_z` column and the `β_z` row of
+/// `J` are both `O(κ)`, so `det J = O(κ²)` — below the smallest normal number for κ ≲ 1e-154
+/// (the sign and the tangency test then read rounding noise or zero). In the balanced variables
+/// every entry of the generator is bounded as κ → 0 and the limit system is nondegenerate, so
+/// `det J_S = det J/κ²` (same sign, same zeros: `S` is positive diagonal and the initial frame
+/// `[0; S]` is `[0; I]` up to a positive column scaling) is `O(1)` for every representable κ > 0.
+///
+/// The entries that `S` changes are written with the powers of κ cancelled analytically (no
+/// division by κ, which would overflow for subnormal κ): row `β_z` (`β_z' = κβ_x`) becomes
+/// `(β_z/κ)' = β_x`; column `β_z` (`β_x' ∋ −κβ_z`) becomes `−κ²·(β_z/κ)`; row `δn_z`
+/// (`δn_z' = −fκ δm_x + κ δn_x`, `f = ω − τ`) becomes `−fκ² δm_x + κ² δn_x`; column `δn_z`
+/// (`δn_x' ∋ −κ δn_z`) becomes `−(κ δn_z)`. No other entry of these rows/columns is nonzero
+/// (checked against `S·A·S⁻¹` in the unit tests).
+pub(crate) fn generator_balanced(kappa: Real, tau: Real, omega: Real, c: Real) -> Gen {
+    let mut a = generator(kappa, tau, omega, c);
+    let f = omega - tau;
+    let k2 = kappa * kappa;
+    a[BETA_Z][3] = 1.0;
+    a[3][BETA_Z] = -k2;
+    a[DN_Z][6] = -f * k2;
+    a[DN_Z][9] = k2;
+    a[9][DN_Z] = -1.0;
+    a
+}
+
 /// Infinity norm (max absolute row sum).
 pub(crate) fn norm_inf(a: &Gen) -> Real {
     a.iter()
@@ -327,6 +361,31 @@ mod tests {
         for i in 0..12 {
             for j in 0..12 {
                 assert!((q[i][j] - e[i][j]).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn balanced_generator_is_the_similarity_transform() {
+        for &(k, t, w, c) in &[
+            (0.37, -0.8, 0.47, 0.75),
+            (0.9, 0.1, -0.42, 0.8),
+            (1e-3, 1.0, 0.0, 0.75),
+        ] {
+            let a = generator(k, t, w, c);
+            let b = generator_balanced(k, t, w, c);
+            let mut s = [1.0; 12];
+            s[BETA_Z] = 1.0 / k;
+            s[DN_Z] = k;
+            for i in 0..12 {
+                for j in 0..12 {
+                    let want = s[i] * a[i][j] / s[j];
+                    assert!(
+                        (b[i][j] - want).abs() <= 1e-15 * want.abs().max(1.0),
+                        "({i},{j}): {} vs {want}",
+                        b[i][j]
+                    );
+                }
             }
         }
     }

@@ -34,6 +34,16 @@
 //! the rod is isotropic) turns `u` into `w` and gives **constant** coefficients:
 //! `z' = A z`, `z = (α, β, δm, δn)` (see `kernel::generator`). Hence `Z(t) = exp(tA)·[0; I]`.
 //!
+//! # Balancing for κ → 0
+//! On a straight rod an axial force does not change the shape and the end cannot move axially
+//! to first order, so the `δn_z` column and the `β_z` row of `J` are `O(κ)` and `det J = O(κ²)`:
+//! for κ ≲ 1e-154 it leaves the normal range and its sign and size are rounding noise (a
+//! direction `1e-160, 1, 0` used to return s* = 1.3 instead of the limit 2π). The scan therefore
+//! propagates the balanced variables `β_z/κ` and `κ·δn_z` (`kernel::generator_balanced`, a
+//! positive diagonal similarity that keeps the sign and zeros of `det J`), whose generator is
+//! bounded with a nondegenerate limit as κ → 0: every representable κ̂ > 0 is resolved, and
+//! s* → the κ → 0⁺ limit continuously (tested down to the smallest subnormal).
+//!
 //! # Scaling: one propagation per direction, no bisection on s
 //! The helix `s·S̄` on `[0, t]` is the helix `S̄` on `[0, s·t]` shrunk by `s` (curvatures scale
 //! as `s`, moments as `s`, forces as `s²`; the equations are homogeneous). So the first conjugate
@@ -237,7 +247,7 @@ pub fn critical_s_with(dir: &Direction, p: &ContinuumParams) -> Result<CriticalS
         });
     }
     let c = 1.0 / (1.0 + p.nu);
-    let a = kernel::generator(dir.kappa, dir.tau, dir.omega, c);
+    let a = kernel::generator_balanced(dir.kappa, dir.tau, dir.omega, c);
     let r = scan::first_conjugate(&a, p.step, p.s_max, p.tol_rel);
     Ok(if r.t <= p.s_max {
         CriticalS {
