@@ -11,6 +11,7 @@
 //! | helix error e versus ‖S‖ (DER dynamics) | [`error_vs_s::render`] | [`Series`] |
 //! | speed versus error of boundary methods (log-log) | [`speed_error::render`] | [`SpeedErrorRow`] |
 //! | joint and motor angles versus s, with joint limits | [`trajectory::render`] | [`TrajectoryRow`] (+ [`JointLimit`]) |
+//! | robot, rod and scene along a trajectory: strip, GIF (poses the robot model; see its docs) | [`render::render_trajectory`] | trajectory CSV + rig |
 //!
 //! The output format follows the file extension (`.png` or `.svg`, case-insensitive); anything
 //! else is an [`Error::InvalidParameter`] naming the path. Files are written atomically (temp file
@@ -35,6 +36,7 @@ pub mod boundary3d;
 pub mod direction_map;
 pub mod error_vs_s;
 pub mod records;
+pub mod render;
 pub mod section;
 pub mod speed_error;
 pub mod style;

@@ -40,6 +40,8 @@ enum Command {
     Merge(commands::merge::Args),
     /// Regenerate a figure from saved CSVs.
     Plot(commands::plot::Args),
+    /// Snapshots of robot, rod and scene along a planned trajectory (strip, GIF, clearances).
+    Render(commands::render::Args),
     /// The main job: boundary, reachability, dynamics and figures on the default rig.
     Demo(commands::demo::Args),
 }
@@ -58,6 +60,7 @@ fn main() -> ExitCode {
         Command::Reach(a) => commands::reach::run(a),
         Command::Merge(a) => commands::merge::run(a),
         Command::Plot(a) => commands::plot::run(a),
+        Command::Render(a) => commands::render::run(a),
         Command::Demo(a) => commands::demo::run(a),
     };
     match result {

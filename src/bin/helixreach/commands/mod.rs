@@ -10,5 +10,6 @@ pub mod merge;
 pub mod plan;
 pub mod plot;
 pub mod reach;
+pub mod render;
 pub mod robot;
 pub mod simulate;
