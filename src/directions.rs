@@ -83,6 +83,7 @@ pub fn fibonacci(n: usize, quarter: bool) -> Result<Vec<Direction>> {
             "the direction set must not be empty",
         ));
     }
+    crate::limits::check_size("fibonacci", n, crate::limits::MAX_DIRECTIONS)?;
     let inv_phi = (5.0_f64.sqrt() - 1.0) / 2.0;
     let pi = std::f64::consts::PI;
     Ok((0..n)
@@ -127,6 +128,12 @@ pub fn read_csv(path: &Path) -> Result<Vec<Direction>> {
         );
         let d = Direction::new(a, b, c)
             .map_err(|e| crate::io::bad_line(path, line, "direction", e.to_string()))?;
+        if out.len() == crate::limits::MAX_DIRECTIONS {
+            return Err(table.file_error(format!(
+                "more than {} directions (helixreach::limits::MAX_DIRECTIONS)",
+                crate::limits::MAX_DIRECTIONS
+            )));
+        }
         out.push(d);
     }
     if out.is_empty() {

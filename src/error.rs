@@ -79,9 +79,42 @@ impl Error {
     ) -> Self {
         Error::InvalidParameter {
             field: field.into(),
-            value: value.to_string(),
+            value: compact_number_text(value.to_string()),
             reason: reason.into(),
         }
+    }
+}
+
+/// Format a number for messages: shortest round-trip text, switching to scientific notation
+/// when the magnitude is ≥ 1e15 or < 1e-4 (so 1e300 prints as `1e300`, not 301 digits, and
+/// 1e-300 not as 300 zeros). The one number formatter of error messages.
+///
+/// ```
+/// use helixreach::error::fmt_num;
+/// assert_eq!(fmt_num(1e300), "1e300");
+/// assert_eq!(fmt_num(-2.5e-7), "-2.5e-7");
+/// assert_eq!(fmt_num(0.25), "0.25");
+/// assert_eq!(fmt_num(-0.0), "-0");
+/// assert_eq!(fmt_num(f64::NAN), "NaN");
+/// assert_eq!(fmt_num(f64::INFINITY), "inf");
+/// ```
+pub fn fmt_num(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e15).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// A value's text for a message: a long decimal expansion of a float (more than 40 characters,
+/// or more than 24 with a decimal point) is rewritten with [`fmt_num`]; anything else (integers
+/// up to 40 digits, names, lists) is kept as is.
+fn compact_number_text(text: String) -> String {
+    let long = text.len() > 40 || (text.contains('.') && text.len() > 24);
+    match text.parse::<f64>() {
+        Ok(x) if long => fmt_num(x),
+        _ => text,
     }
 }
 
@@ -100,5 +133,24 @@ pub fn require_positive(field: &str, value: f64) -> Result<f64> {
         Ok(value)
     } else {
         Err(Error::invalid(field, value, "must be finite and > 0"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn huge_and_tiny_values_print_compactly() {
+        let e = Error::invalid("tol", 1e300, "must be < 0.5").to_string();
+        assert_eq!(e, "invalid tol = 1e300: must be < 0.5");
+        let e = Error::invalid("tol", -1e-300, "x").to_string();
+        assert!(e.contains("-1e-300"), "{e}");
+        // Integers keep every digit; ordinary floats are untouched.
+        let e = Error::invalid("n", u64::MAX, "x").to_string();
+        assert!(e.contains("18446744073709551615"), "{e}");
+        assert!(Error::invalid("x", 0.1 + 0.2, "y")
+            .to_string()
+            .contains("0.30000000000000004"));
     }
 }

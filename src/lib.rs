@@ -13,7 +13,9 @@
 //! |---|---|
 //! | [`math`] | scalar/geometry aliases, named tolerances, stable ratios (sin x/x, …) |
 //! | [`error`] | the typed [`Error`] |
-//! | [`io`] | atomic file output |
+//! | [`io`] | atomic file output, output locks and checks, CSV input |
+//! | [`cpu_time`] | the calling thread's CPU time (ns resolution), for speed figures |
+//! | [`limits`] | the upper bound of every size parameter |
 //! | [`helix`] | exact helix geometry: centerline, Frenet/Bishop/material frames, end pose, discrete helix, error metric |
 //! | [`directions`] | direction sets on the half-sphere κ ≥ 0 (Fibonacci lattice, CSV) |
 //! | [`rod`] | Discrete Elastic Rods: energies, gradients, Hessians, statics, dynamics |
@@ -27,10 +29,12 @@
 //! `helix`}; `rod` → `helix`; `sweep` → `planning`; `plot` reads records only.
 
 pub mod boundary;
+pub mod cpu_time;
 pub mod directions;
 pub mod error;
 pub mod helix;
 pub mod io;
+pub mod limits;
 pub mod math;
 pub mod planning;
 pub mod plot;

@@ -662,8 +662,9 @@ fn driver_resumes_without_recomputing_and_checkpoints_on_failure() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("item 25") && e.contains("boom"), "{e}");
-    let partial = std::fs::read_to_string(&out).unwrap();
-    assert_eq!(partial.lines().count(), 1 + 25 + 4, "{partial}");
+    // (Checkpoints go beside the output; record + header + rows.)
+    let partial = std::fs::read_to_string(driver::partial_path(&out)).unwrap();
+    assert_eq!(partial.lines().count(), 2 + 25 + 4, "{partial}");
 
     // Resume: only the missing 11 items are computed, and the result equals the full run.
     let count = AtomicUsize::new(0);
@@ -716,12 +717,11 @@ fn driver_shards_concatenate_to_the_whole() {
         o.shard = Some(Shard::new(i, 3).unwrap());
         driver::run(&items, |x| vec![x.to_string()], square_row, &o).unwrap();
         let t = std::fs::read_to_string(&p).unwrap();
-        body.extend(t.lines().skip(1).map(|l| format!("{l}\n")));
+        // Skip the settings record and the header.
+        body.extend(t.lines().skip(2).map(|l| format!("{l}\n")));
     }
-    assert_eq!(
-        format!("x,v\n{body}"),
-        std::fs::read_to_string(&full).unwrap()
-    );
+    let full = std::fs::read_to_string(&full).unwrap();
+    assert_eq!(format!("x,v\n{body}"), full.split_once('\n').unwrap().1);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -761,14 +761,19 @@ fn cli_boundary_resume_shards_merge_and_threads() {
     let a = std::fs::read_to_string(&one).unwrap();
     assert_eq!(a, std::fs::read_to_string(&two).unwrap());
     let lines: Vec<&str> = a.lines().collect();
+    assert!(
+        lines[0].starts_with("# helixreach-settings"),
+        "{}",
+        lines[0]
+    );
     assert_eq!(
-        lines[0],
+        lines[1],
         "dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error"
     );
-    assert_eq!(lines.len(), 61);
+    assert_eq!(lines.len(), 62);
     // Rows are in Fibonacci order and agree with the library.
     let dirs = fibonacci(60, false).unwrap();
-    for (l, d) in lines[1..].iter().zip(&dirs) {
+    for (l, d) in lines[2..].iter().zip(&dirs) {
         let f: Vec<&str> = l.split(',').collect();
         assert_eq!(f[0].parse::<f64>().unwrap(), d.kappa);
         let s: f64 = f[3].parse().unwrap();
@@ -795,9 +800,12 @@ fn cli_boundary_resume_shards_merge_and_threads() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(std::fs::read_to_string(&merged).unwrap(), a);
     // Overlapping shards are refused.
-    let o = cli(&["merge", "--out", &merged, &shards[0], &shards[0]], 1);
+    let o = cli(
+        &["merge", "--force", "--out", &merged, &shards[0], &shards[0]],
+        1,
+    );
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("already present"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("expected 1/3"));
 }
 
 #[test]

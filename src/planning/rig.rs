@@ -547,10 +547,15 @@ impl Ctx<'_> {
         }
     }
     fn count(&self, field: &str, v: usize, min: usize) -> Result<usize> {
-        if v >= min {
+        let max = crate::limits::rig_count_max(field);
+        if (min..=max).contains(&v) {
             Ok(v)
         } else {
-            Err(self.err(field, v, &format!("must be >= {min}")))
+            Err(self.err(
+                field,
+                v,
+                &format!("must be in {min}..={max} (helixreach::limits)"),
+            ))
         }
     }
 }

@@ -89,6 +89,8 @@ impl RobotModel {
     /// let m = helixreach::robot::RobotModel::load("sawyer", None).unwrap();
     /// assert_eq!(m.tip_link(), "right_motor_tip");
     /// assert_eq!(m.dof(), 7);
+    /// let e = helixreach::robot::RobotModel::load("kuka", None).unwrap_err().to_string();
+    /// assert!(e.contains("kuka") && e.contains("sawyer, panda, iiwa14"), "{e}");
     /// ```
     pub fn load(name_or_path: &str, tip_link: Option<&str>) -> Result<RobotModel> {
         match builtin(name_or_path) {
@@ -97,6 +99,13 @@ impl RobotModel {
                 &format!("builtin:{}", b.name),
                 Some(tip_link.unwrap_or(b.tip)),
             ),
+            None if !Path::new(name_or_path).exists() => Err(Error::File {
+                path: name_or_path.into(),
+                reason: format!(
+                    "no such URDF file, and not a built-in robot (built-in: {})",
+                    BUILTINS.map(|b| b.name).join(", ")
+                ),
+            }),
             None => Self::from_urdf_file(name_or_path, tip_link),
         }
     }

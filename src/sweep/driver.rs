@@ -1,44 +1,75 @@
 //! Resumable, checkpointed, deterministic parallel map over a list of items (directions, rays,
-//! …), producing one CSV row per item.
+//! …), producing one CSV row per item — the engine of every sweep (`boundary`, `reach`,
+//! `bifurcation`, `layout`, …).
 //!
-//! The driver is generic: the caller gives the items, a `key` function (the leading CSV fields
-//! that identify an item, e.g. `dir_kappa,dir_tau,dir_omega`), a `compute` closure returning the
-//! full row of an item, and [`SweepOptions`] (output path, header, resume, shard, checkpoint
-//! interval, progress bar). `helixreach boundary` and `helixreach reach` are both built on it.
+//! The caller gives the items, a `key` function (the leading CSV fields that identify an item,
+//! e.g. `dir_kappa,dir_tau,dir_omega`), a `compute` closure returning the full row of an item,
+//! and [`SweepOptions`]: output path, header, the **settings** that produce the rows (see
+//! [`SweepOptions::setting`]), resume/force, shard, checkpoint interval, progress.
 //!
-//! # Guarantees
-//! - **Parallel at the outermost level only**: items are processed in batches; each batch is a
-//!   rayon `par_iter` over items (the closure itself should be sequential).
-//! - **Deterministic**: rows are written in input order, and each row is a pure function of its
-//!   item, so the output is bitwise identical for any thread count.
-//! - **Atomic**: the output is only ever replaced with [`crate::io::write_atomic`] (temp file +
-//!   rename): a reader or a crash never sees a half-written file.
-//! - **Checkpointed**: every `checkpoint_interval` (and when an item fails) the rows finished so
-//!   far are written to the output, in input order.
-//! - **Resumable**: with `resume`, rows of an existing output whose key matches an item are kept
-//!   and the item is not recomputed. Keys are compared as text, so format floats with `{}`
-//!   (shortest round-trip) and they match exactly. The existing header must equal the new one.
-//!   Rows of the old file whose key is not among the items are dropped (counted in the summary).
-//! - **Sharding**: `shard = I/N` (0-based) keeps the contiguous block `[I·n/N, (I+1)·n/N)` of the
-//!   items, so concatenating the shard outputs in shard order (`helixreach merge`) restores the
-//!   input order.
+//! # Guarantees (the data-safety rules)
+//! - **A finished result is never replaced by less.** The output file is written only once,
+//!   atomically ([`crate::io::write_atomic`]), when every item of the run is done. Checkpoints
+//!   go to the sibling `OUT.partial` ([`partial_path`]), removed when the output is complete. A
+//!   failed or killed run leaves the previous output untouched.
+//! - **Existing outputs are not overwritten unless asked.** If `OUT` or `OUT.partial` exists, the
+//!   run is refused unless `resume` (continue it) or `force` (replace it, once complete) is set.
+//!   Replacing an output that was made with *different* settings always needs `force`.
+//! - **Every output records its settings.** Its first line is a
+//!   [`SettingsRecord`](super::record::SettingsRecord) (`# helixreach-settings {json}`): tool
+//!   version, sweep name, the caller's settings, columns, size and digest of the whole item set,
+//!   shard. `resume` continues `OUT.partial` (else `OUT`) only when its record equals the
+//!   current one, listing every difference otherwise; a row whose key is not an item of the run,
+//!   or a duplicate key, is refused (never dropped).
+//! - **One writer per output.** An exclusive [`OutputLock`](crate::io::OutputLock) is held for
+//!   the whole run; a second writer fails at once with a clear error. Temp files of killed
+//!   runs (`OUT.<pid>.tmp`) are removed.
+//! - **Outputs are checked before computing**: the lock file is created beside the output, so a
+//!   missing or read-only directory fails before the first item.
+//! - **Checkpoints honour the interval**: batches are sized from the measured throughput to last
+//!   about a quarter of `checkpoint_interval` (≥ 20 ms, ≤ 2 s), so the first checkpoint comes
+//!   within about 1.25 × the interval (plus one item's time).
+//! - **Parallel at the outermost level only** (a rayon `par_iter` over the items of a batch) and
+//!   **deterministic**: rows are in input order and each row is a pure function of its item, so
+//!   the output is identical for any thread count.
+//! - **Standard output and devices**: `OUT = -` streams the record, header and rows to stdout in
+//!   input order as batches finish; an existing non-regular `OUT` (`/dev/stdout`, a FIFO) is
+//!   written in place the same way, never replaced by a rename. Neither can be resumed.
+//! - **Sharding**: `shard = I/N` (0-based) keeps the contiguous block `[I·n/N, (I+1)·n/N)` of
+//!   the items; `helixreach merge` ([`super::merge`]) joins the shard files after checking they
+//!   are complete, in order and made with equal settings.
+//! - **Progress** on stderr when `progress` is set: a bar on a terminal, else a line every 10 s.
 //!
 //! ```
 //! use helixreach::sweep::driver::{run, SweepOptions};
 //! let dir = tempfile::tempdir().unwrap();
 //! let out = dir.path().join("squares.csv");
 //! let items: Vec<u32> = (1..=5).collect();
-//! let opts = SweepOptions::new(&out, &["x", "x2"], 1);
+//! let opts = SweepOptions::new(&out, &["x", "x2"], 1)
+//!     .sweep("squares")
+//!     .setting("power", 2);
 //! let summary = run(&items, |x| vec![x.to_string()], |x| Ok(vec![x.to_string(), (x * x).to_string()]), &opts)?;
 //! assert_eq!(summary.computed, 5);
-//! assert_eq!(std::fs::read_to_string(&out).unwrap(), "x,x2\n1,1\n2,4\n3,9\n4,16\n5,25\n");
+//! let text = std::fs::read_to_string(&out).unwrap();
+//! let (record, rows) = text.split_once('\n').unwrap();
+//! assert!(record.starts_with("# helixreach-settings {") && record.contains(r#""power":"2""#));
+//! assert_eq!(rows, "x,x2\n1,1\n2,4\n3,9\n4,16\n5,25\n");
+//!
+//! // Running again over the finished file is refused; `resume` with other settings too.
+//! assert!(run(&items, |x| vec![x.to_string()], |x| Ok(vec![x.to_string(), "0".into()]), &opts).is_err());
+//! let mut cubes = opts.clone().setting("power", 3);
+//! cubes.resume = true;
+//! let e = run(&items, |x| vec![x.to_string()], |x| Ok(vec![x.to_string(), (x * x * x).to_string()]), &cubes).unwrap_err();
+//! assert!(e.to_string().contains("power: `2` vs `3`"), "{e}");
 //! # Ok::<(), helixreach::Error>(())
 //! ```
 
+use super::record::{SettingsRecord, SweepFile};
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
+use crate::io::{is_special, is_stdout, write_atomic, OutputLock};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::time::{Duration, Instant};
@@ -56,7 +87,7 @@ pub struct Shard {
 }
 
 impl Shard {
-    /// A checked shard.
+    /// A checked shard (`count` ≤ [`crate::limits::MAX_SHARDS`]).
     pub fn new(index: usize, count: usize) -> Result<Self> {
         if count == 0 || index >= count {
             return Err(Error::invalid(
@@ -65,6 +96,7 @@ impl Shard {
                 "must be I/N with 0 <= I < N",
             ));
         }
+        crate::limits::check_size("shard count N", count, crate::limits::MAX_SHARDS)?;
         Ok(Shard { index, count })
     }
 
@@ -76,7 +108,15 @@ impl Shard {
     /// assert_eq!(r, vec![0..3, 3..6, 6..10]);
     /// ```
     pub fn range(&self, n: usize) -> std::ops::Range<usize> {
-        (self.index * n / self.count)..((self.index + 1) * n / self.count)
+        // u128: no overflow for any usize n.
+        let at = |i: usize| (i as u128 * n as u128 / self.count as u128) as usize;
+        at(self.index)..at(self.index + 1)
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
     }
 }
 
@@ -95,38 +135,60 @@ impl FromStr for Shard {
 /// Options of [`run`].
 #[derive(Debug, Clone)]
 pub struct SweepOptions {
-    /// Output CSV.
+    /// Output CSV; `-` is standard output.
     pub out: PathBuf,
     /// The CSV header (column names).
     pub header: Vec<String>,
     /// How many leading columns form an item's key (≥ 1, ≤ header length).
     pub key_columns: usize,
-    /// Keep rows of an existing output whose key matches an item instead of recomputing them.
+    /// The sweep's name in the settings record (`boundary`, `reach`, …).
+    pub sweep: String,
+    /// The settings that produce the rows (method, resolution, tolerance, rig digest, …), as
+    /// text; recorded in the output and compared on resume.
+    pub settings: std::collections::BTreeMap<String, String>,
+    /// Continue an existing output (or its checkpoint) made with the same settings.
     pub resume: bool,
+    /// Replace an existing output (only once the new result is complete).
+    pub force: bool,
     /// Process only this block of the items.
     pub shard: Option<Shard>,
-    /// Minimum time between checkpoints of the output.
+    /// Minimum time between checkpoints (to `OUT.partial`).
     pub checkpoint_interval: Duration,
-    /// Show an indicatif progress bar on stderr.
+    /// Show progress on stderr.
     pub progress: bool,
-    /// Items per parallel batch (0: automatic, about 1 % of the work, at least 64).
+    /// Items per parallel batch (0: automatic, from the measured throughput).
     pub batch: usize,
 }
 
 impl SweepOptions {
-    /// Options with defaults: no resume, no shard, checkpoint every 10 s, no progress bar,
-    /// automatic batch size.
+    /// Options with defaults: sweep name `sweep`, no settings, no resume, no force, no shard,
+    /// checkpoint every 10 s, no progress, automatic batch size.
     pub fn new(out: &Path, header: &[&str], key_columns: usize) -> Self {
         SweepOptions {
             out: out.to_path_buf(),
             header: header.iter().map(|s| s.to_string()).collect(),
             key_columns,
+            sweep: "sweep".into(),
+            settings: Default::default(),
             resume: false,
+            force: false,
             shard: None,
             checkpoint_interval: Duration::from_secs(10),
             progress: false,
             batch: 0,
         }
+    }
+
+    /// Set the sweep's name.
+    pub fn sweep(mut self, name: &str) -> Self {
+        self.sweep = name.to_string();
+        self
+    }
+
+    /// Record one setting (formatted with `Display`; floats print shortest round-trip).
+    pub fn setting(mut self, name: &str, value: impl std::fmt::Display) -> Self {
+        self.settings.insert(name.to_string(), value.to_string());
+        self
     }
 }
 
@@ -137,54 +199,30 @@ pub struct SweepSummary {
     pub total: usize,
     /// Items computed in this run.
     pub computed: usize,
-    /// Items taken from the existing output (resume).
+    /// Items taken from the existing output or checkpoint (resume).
     pub resumed: usize,
-    /// Rows of the existing output that matched no item and were dropped.
+    /// Always 0: rows outside the current set are refused, never dropped (kept for
+    /// compatibility).
     pub dropped: usize,
     /// Checkpoints written before the final output.
     pub checkpoints: usize,
+    /// Time from the start of the computation to the first checkpoint, if any.
+    pub first_checkpoint: Option<Duration>,
 }
 
-/// Read the rows of an existing output, keyed by their first `key_columns` fields.
-fn read_existing(opts: &SweepOptions) -> Result<HashMap<Row, Row>> {
-    let path = &opts.out;
-    let file_err = |reason: String| Error::File {
-        path: path.clone(),
-        reason,
-    };
-    let mut rdr = csv::ReaderBuilder::new()
-        .from_path(path)
-        .map_err(|e| file_err(e.to_string()))?;
-    let header: Row = rdr
-        .headers()
-        .map_err(|e| file_err(e.to_string()))?
-        .iter()
-        .map(str::to_string)
-        .collect();
-    if header != opts.header {
-        return Err(file_err(format!(
-            "cannot resume: its header `{}` differs from `{}`",
-            header.join(","),
-            opts.header.join(",")
-        )));
-    }
-    let mut map = HashMap::new();
-    for (k, rec) in rdr.records().enumerate() {
-        let rec = rec.map_err(|e| Error::BadLine {
-            path: path.clone(),
-            line: k + 2,
-            field: "record".into(),
-            reason: e.to_string(),
-        })?;
-        let row: Row = rec.iter().map(str::to_string).collect();
-        map.insert(row[..opts.key_columns].to_vec(), row);
-    }
-    Ok(map)
+/// The checkpoint file of an output: `OUT.partial` beside it.
+pub fn partial_path(out: &Path) -> PathBuf {
+    let mut name = out
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_default();
+    name.push(".partial");
+    out.with_file_name(name)
 }
 
-/// Serialize the header and the finished rows (in input order) as CSV.
-fn to_csv(header: &[String], rows: &[Option<Row>]) -> Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(Vec::new());
+/// Serialize the record, header and finished rows (in input order) as CSV.
+fn to_csv(record: &SettingsRecord, header: &[String], rows: &[Option<Row>]) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(record.line().into_bytes());
     let ser = |e: csv::Error| Error::invalid("row", "", e.to_string());
     w.write_record(header).map_err(ser)?;
     for r in rows.iter().flatten() {
@@ -192,6 +230,172 @@ fn to_csv(header: &[String], rows: &[Option<Row>]) -> Result<Vec<u8>> {
     }
     w.into_inner()
         .map_err(|e| Error::invalid("row", "", e.to_string()))
+}
+
+/// CSV text of some rows (no header).
+fn rows_csv<'a>(rows: impl Iterator<Item = &'a Row>) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.write_record(r)
+            .map_err(|e| Error::invalid("row", "", e.to_string()))?;
+    }
+    w.into_inner()
+        .map_err(|e| Error::invalid("row", "", e.to_string()))
+}
+
+/// Where the rows go.
+enum Sink {
+    /// A regular file: checkpoints to `OUT.partial`, atomic replace at the end, locked.
+    File { _lock: OutputLock },
+    /// Standard output or a non-regular file, written in order as batches finish.
+    Stream(Box<dyn Write>),
+}
+
+/// Refuse what would overwrite or mix results; load the rows to resume from.
+fn prepare_file(
+    opts: &SweepOptions,
+    record: &SettingsRecord,
+    keys: &[Row],
+    rows: &mut [Option<Row>],
+) -> Result<usize> {
+    let out = &opts.out;
+    let partial = partial_path(out);
+    crate::io::remove_stale_temps(out);
+    crate::io::remove_stale_temps(&partial);
+    let (out_exists, partial_exists) = (out.exists(), partial.exists());
+    if !opts.resume && !opts.force && (out_exists || partial_exists) {
+        let what = if out_exists {
+            format!("{} already exists", out.display())
+        } else {
+            format!(
+                "an unfinished run's checkpoint {} exists",
+                partial.display()
+            )
+        };
+        return Err(Error::File {
+            path: out.clone(),
+            reason: format!(
+                "{what}; refusing to overwrite it: resume it (--resume, same settings only) or \
+                 replace it once the new result is complete (--force)"
+            ),
+        });
+    }
+    let mismatch = |path: &Path, file: &Option<SettingsRecord>, action: &str| -> Option<Error> {
+        let reason = match file {
+            None => "it has no settings record (not written by this helixreach version)".into(),
+            Some(r) if r == record => return None,
+            Some(r) => format!(
+                "it was made with other settings (file vs this run): {}",
+                r.differences(record).join("; ")
+            ),
+        };
+        Some(Error::File {
+            path: path.to_path_buf(),
+            reason: format!("cannot {action}: {reason}"),
+        })
+    };
+    if out_exists && !opts.force {
+        if let Some(e) = mismatch(
+            out,
+            &SettingsRecord::read(out)?,
+            "continue or replace it without --force",
+        ) {
+            return Err(e);
+        }
+    }
+    if !opts.resume {
+        return Ok(0);
+    }
+    let source = if partial_exists {
+        partial
+    } else if out_exists {
+        out.clone()
+    } else {
+        return Ok(0);
+    };
+    let file = SweepFile::read(&source)?;
+    if let Some(e) = mismatch(&source, &file.record, "resume") {
+        return Err(e);
+    }
+    let index: HashMap<&Row, usize> = keys.iter().enumerate().map(|(i, k)| (k, i)).collect();
+    let mut resumed = 0;
+    let line0 = 3; // record, header, first row
+    for (n, row) in file.rows.into_iter().enumerate() {
+        let bad = |reason: String| crate::io::bad_line(&source, n + line0, "key", reason);
+        if row.len() != opts.header.len() {
+            return Err(bad(format!(
+                "has {} fields, the header has {}",
+                row.len(),
+                opts.header.len()
+            )));
+        }
+        let key = row[..opts.key_columns].to_vec();
+        let Some(&i) = index.get(&key) else {
+            return Err(bad(format!(
+                "`{}` is not an item of this run; refusing to drop it (use --force to \
+                 recompute, or another --out)",
+                key.join(",")
+            )));
+        };
+        if rows[i].is_some() {
+            return Err(bad(format!("`{}` appears twice", key.join(","))));
+        }
+        rows[i] = Some(row);
+        resumed += 1;
+    }
+    Ok(resumed)
+}
+
+/// Progress on stderr: an indicatif bar on a terminal, else a line every 10 s.
+struct Progress {
+    bar: indicatif::ProgressBar,
+    lines: bool,
+    total: usize,
+    name: String,
+    t0: Instant,
+    last: Instant,
+}
+
+impl Progress {
+    fn new(on: bool, total: usize, name: &str) -> Self {
+        let tty = std::io::stderr().is_terminal();
+        let bar = if on && tty {
+            let pb = indicatif::ProgressBar::with_draw_target(
+                Some(total as u64),
+                indicatif::ProgressDrawTarget::stderr(),
+            );
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} ({per_sec}, eta {eta})",
+            ) {
+                pb.set_style(style);
+            }
+            pb
+        } else {
+            indicatif::ProgressBar::hidden()
+        };
+        Progress {
+            bar,
+            lines: on && !tty,
+            total,
+            name: name.to_string(),
+            t0: Instant::now(),
+            last: Instant::now(),
+        }
+    }
+
+    fn batch_done(&mut self, done: usize) {
+        if self.lines && self.last.elapsed() >= Duration::from_secs(10) {
+            self.last = Instant::now();
+            let t = self.t0.elapsed().as_secs_f64();
+            let eta = t / done.max(1) as f64 * (self.total - done) as f64;
+            eprintln!(
+                "{}: {done}/{} computed ({:.1} %), {t:.0} s elapsed, eta {eta:.0} s",
+                self.name,
+                self.total,
+                100.0 * done as f64 / self.total.max(1) as f64
+            );
+        }
+    }
 }
 
 /// Run `compute` over `items` (see the module docs), writing `opts.out`.
@@ -213,62 +417,114 @@ where
             format!("must be in 1..={ncols} (the header length)"),
         ));
     }
+    let max_interval = Duration::from_secs_f64(crate::limits::MAX_CHECKPOINT_SECS);
+    if opts.checkpoint_interval > max_interval {
+        return Err(Error::invalid(
+            "checkpoint interval (s)",
+            opts.checkpoint_interval.as_secs_f64(),
+            format!(
+                "must be <= {} s (helixreach::limits)",
+                crate::limits::MAX_CHECKPOINT_SECS
+            ),
+        ));
+    }
+    let all_keys: Vec<Row> = items.iter().map(&key).collect();
+    if let Some(k) = all_keys.iter().find(|k| k.len() != opts.key_columns) {
+        return Err(Error::invalid(
+            "key",
+            k.join(","),
+            format!(
+                "has {} fields, key_columns is {}",
+                k.len(),
+                opts.key_columns
+            ),
+        ));
+    }
+    let header: Vec<&str> = opts.header.iter().map(String::as_str).collect();
+    let mut record = SettingsRecord::new(&opts.sweep, &header, &all_keys);
+    record.settings = opts.settings.clone();
+    record.shard = opts.shard.map(|s| s.to_string());
     let range = match opts.shard {
         Some(s) => s.range(items.len()),
         None => 0..items.len(),
     };
-    let items = &items[range];
-    let keys: Vec<Row> = items.iter().map(&key).collect();
+    let items = &items[range.clone()];
+    let keys = &all_keys[range];
     let mut rows: Vec<Option<Row>> = vec![None; items.len()];
 
-    let mut resumed = 0;
-    let mut dropped = 0;
-    if opts.resume && opts.out.exists() {
-        let existing = read_existing(opts)?;
-        let mut used = std::collections::HashSet::new();
-        for (slot, k) in rows.iter_mut().zip(&keys) {
-            if let Some(r) = existing.get(k) {
-                *slot = Some(r.clone());
-                used.insert(k.clone());
-                resumed += 1;
-            }
+    let streaming = is_stdout(&opts.out) || is_special(&opts.out);
+    let mut sink = if streaming {
+        if opts.resume {
+            return Err(Error::invalid(
+                "out",
+                opts.out.display(),
+                "standard output or a device cannot be resumed; give a file",
+            ));
         }
-        dropped = existing.len() - used.len();
-    }
+        let w: Box<dyn Write> = if is_stdout(&opts.out) {
+            Box::new(std::io::stdout())
+        } else {
+            let f = std::fs::OpenOptions::new()
+                .write(true)
+                .open(&opts.out)
+                .map_err(|source| Error::Io {
+                    path: opts.out.clone(),
+                    source,
+                })?;
+            Box::new(f)
+        };
+        Sink::Stream(w)
+    } else {
+        crate::io::check_output(&opts.out)?;
+        let lock = OutputLock::acquire(&opts.out)?;
+        Sink::File { _lock: lock }
+    };
+    let stream_err = |source| Error::Io {
+        path: opts.out.clone(),
+        source,
+    };
+    let resumed = match &mut sink {
+        Sink::File { .. } => prepare_file(opts, &record, keys, &mut rows)?,
+        Sink::Stream(w) => {
+            w.write_all(&to_csv(&record, &opts.header, &[])?)
+                .map_err(stream_err)?;
+            0
+        }
+    };
 
     let todo: Vec<usize> = (0..items.len()).filter(|&i| rows[i].is_none()).collect();
-    let pb = if opts.progress {
-        let pb = indicatif::ProgressBar::with_draw_target(
-            Some(todo.len() as u64),
-            indicatif::ProgressDrawTarget::stderr(),
-        );
-        if let Ok(style) = indicatif::ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} ({per_sec}, eta {eta})",
-        ) {
-            pb.set_style(style);
-        }
-        pb
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-
-    let batch = if opts.batch > 0 {
-        opts.batch
-    } else {
-        (todo.len() / 100).clamp(64, 8192)
-    };
-    let mut last_checkpoint = Instant::now();
+    let mut progress = Progress::new(opts.progress, todo.len(), &opts.sweep);
+    let threads = rayon::current_num_threads().max(1);
+    let target =
+        (opts.checkpoint_interval / 4).clamp(Duration::from_millis(20), Duration::from_secs(2));
+    let mut batch = if opts.batch > 0 { opts.batch } else { threads };
+    let partial = partial_path(&opts.out);
+    let t0 = Instant::now();
+    let mut last_checkpoint = t0;
+    let mut first_checkpoint = None;
     let mut checkpoints = 0;
     let mut computed = 0;
-    for chunk in todo.chunks(batch) {
+    let mut next = 0;
+    while next < todo.len() {
+        let chunk = &todo[next..(next + batch).min(todo.len())];
+        next += chunk.len();
+        let tb = Instant::now();
+        let bar = &progress.bar;
         let results: Vec<Result<Row>> = chunk
             .par_iter()
             .map(|&i| {
                 let r = compute(&items[i]);
-                pb.inc(1);
+                bar.inc(1);
                 r
             })
             .collect();
+        let elapsed = tb.elapsed();
+        if opts.batch == 0 {
+            // Size the next batch to last about `target` at the measured throughput.
+            let per_item = elapsed.as_secs_f64() / chunk.len() as f64;
+            let n = (target.as_secs_f64() / per_item.max(1e-9)) as usize;
+            batch = n.clamp(threads, 8192);
+        }
         let mut failure = None;
         for (&i, r) in chunk.iter().zip(results) {
             let checked = r.and_then(|row| {
@@ -297,28 +553,57 @@ where
                 Err(_) => {}
             }
         }
+        if let Sink::Stream(w) = &mut sink {
+            // Rows in input order up to the first failure.
+            let upto = failure.as_ref().map_or(chunk.len(), |(i, _)| {
+                chunk.iter().position(|&c| c == *i).unwrap_or(0)
+            });
+            let bytes = rows_csv(chunk[..upto].iter().filter_map(|&i| rows[i].as_ref()))?;
+            w.write_all(&bytes)
+                .and_then(|_| w.flush())
+                .map_err(stream_err)?;
+        }
+        progress.batch_done(computed);
         if let Some((i, e)) = failure {
-            pb.abandon();
-            write_atomic(&opts.out, &to_csv(&opts.header, &rows)?)?;
+            progress.bar.abandon();
+            if matches!(sink, Sink::File { .. }) && computed > 0 {
+                write_atomic(&partial, &to_csv(&record, &opts.header, &rows)?)?;
+            }
             return Err(Error::Item {
                 key: keys[i].join(","),
                 cause: Box::new(e),
             });
         }
-        if last_checkpoint.elapsed() >= opts.checkpoint_interval && computed < todo.len() {
-            write_atomic(&opts.out, &to_csv(&opts.header, &rows)?)?;
+        if matches!(sink, Sink::File { .. })
+            && last_checkpoint.elapsed() >= opts.checkpoint_interval
+            && next < todo.len()
+        {
+            write_atomic(&partial, &to_csv(&record, &opts.header, &rows)?)?;
             checkpoints += 1;
+            first_checkpoint.get_or_insert(t0.elapsed());
             last_checkpoint = Instant::now();
         }
     }
-    pb.finish_and_clear();
-    write_atomic(&opts.out, &to_csv(&opts.header, &rows)?)?;
+    progress.bar.finish_and_clear();
+    match &mut sink {
+        Sink::File { .. } => {
+            write_atomic(&opts.out, &to_csv(&record, &opts.header, &rows)?)?;
+            if partial.exists() {
+                std::fs::remove_file(&partial).map_err(|source| Error::Io {
+                    path: partial.clone(),
+                    source,
+                })?;
+            }
+        }
+        Sink::Stream(w) => w.flush().map_err(stream_err)?,
+    }
     Ok(SweepSummary {
         total: items.len(),
         computed,
         resumed,
-        dropped,
+        dropped: 0,
         checkpoints,
+        first_checkpoint,
     })
 }
 
@@ -331,6 +616,7 @@ mod tests {
         assert!("3/3".parse::<Shard>().is_err());
         assert!("a/3".parse::<Shard>().is_err());
         assert!("1/0".parse::<Shard>().is_err());
+        assert!("0/1000000000".parse::<Shard>().is_err());
         let n = 17;
         let mut all = vec![];
         for i in 0..4 {

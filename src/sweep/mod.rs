@@ -1,8 +1,12 @@
 //! Sweeps over direction sets (DESIGN.md §6).
 //!
-//! - [`driver`]: the generic resumable, checkpointed, deterministic parallel map over directions
-//!   (used by `boundary` and `reach`).
+//! - [`driver`]: the generic resumable, checkpointed, locked, deterministic parallel map over
+//!   items with its data-safety rules (used by `boundary`, `reach` and every other sweep).
+//! - [`record`]: the settings record written as the first line of every sweep output.
+//! - [`merge`]: joining shard outputs, with completeness, order and settings checks.
 //! - [`reach`]: the reachability sweep of a rig.
 
 pub mod driver;
+pub mod merge;
 pub mod reach;
+pub mod record;

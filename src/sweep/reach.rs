@@ -17,6 +17,7 @@ use crate::math::{tol, Real};
 use crate::planning::planner::{Planner, RayPlan};
 use crate::planning::rig::RollMode;
 use crate::sweep::driver::{self, Row, SweepOptions, SweepSummary};
+use crate::sweep::record::fnv1a_hex;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -92,6 +93,17 @@ impl BoundaryTable {
         self.map.len()
     }
 
+    /// A digest of the table's contents (sorted entries), for the settings record.
+    pub fn digest(&self) -> String {
+        let mut entries: Vec<String> = self
+            .map
+            .iter()
+            .map(|(k, v)| format!("{},{},{},{}", k[0], k[1], k[2], fmt_real(*v)))
+            .collect();
+        entries.sort();
+        fnv1a_hex(entries.join("\n").as_bytes())
+    }
+
     /// True when empty.
     pub fn is_empty(&self) -> bool {
         self.map.is_empty()
@@ -157,7 +169,40 @@ pub fn reach_one(
     Ok(reach_row(&plan))
 }
 
-/// Run the sweep over `dirs` with the driver's options (output, resume, shard, progress).
+/// The settings a reach sweep records (see [`crate::sweep::record`]): a digest of the rig
+/// (every field but its name, description and file location; the robot's URDF is named, not
+/// hashed), the roll mode, the azimuths, the planner margin, and where s* comes from.
+pub fn settings(
+    planner: &Planner,
+    table: Option<&BoundaryTable>,
+    opts: &ReachOptions,
+    sweep: &SweepOptions,
+) -> SweepOptions {
+    let mut rig = planner.rig().clone();
+    rig.name.clear();
+    rig.description.clear();
+    rig.source.clear();
+    rig.robot.dir = std::path::PathBuf::new();
+    let azimuths: Vec<String> = opts.azimuths.iter().map(|&a| fmt_real(a)).collect();
+    sweep
+        .clone()
+        .sweep("reach")
+        .setting("rig", planner.rig().name.as_str())
+        .setting("rig_digest", fnv1a_hex(format!("{rig:?}").as_bytes()))
+        .setting("roll_mode", opts.roll.as_str())
+        .setting("azimuths", azimuths.join(" "))
+        .setting("margin", fmt_real(planner.rig().planner.margin))
+        .setting(
+            "boundary",
+            match table {
+                Some(t) => format!("table {}", t.digest()),
+                None => format!("continuum tol={:e}", tol::S_STAR_REL),
+            },
+        )
+}
+
+/// Run the sweep over `dirs` with the driver's options (output, resume, force, shard,
+/// progress); the settings of [`settings`] are recorded in the output.
 pub fn run(
     planner: &Planner,
     dirs: &[Direction],
@@ -165,6 +210,7 @@ pub fn run(
     opts: &ReachOptions,
     sweep: &SweepOptions,
 ) -> Result<SweepSummary> {
+    let sweep = &settings(planner, table, opts, sweep);
     driver::run(
         dirs,
         |d| vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)],

@@ -1,7 +1,11 @@
 //! `helixreach boundary`: the stability boundary s* along every direction of a set, written as
 //! CSV (`dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error`, rows in
 //! input order; `s_star = inf` when the ray is stable up to `s_max`). Parallel over directions,
-//! checkpointed, resumable and shardable through `helixreach::sweep::driver`.
+//! checkpointed, resumable and shardable through `helixreach::sweep::driver`, whose data-safety
+//! rules apply: the output's first line records the settings (method, resolution, tolerance,
+//! scan step, ν, direction-set digest, shard, tool version); an existing output is continued only
+//! with `--resume` (same settings) or replaced only with `--force` (once the new result is
+//! complete); checkpoints go to `OUT.partial`; `--out -` streams to stdout.
 //!
 //! With `--method der` the DER-statics boundary (`--n-edges N`) is computed instead; its
 //! `resolution` column is `n=N` and `est_error` is the root-finding error only (not the
@@ -51,37 +55,42 @@ pub struct Args {
     /// Stability test.
     #[arg(long, value_enum, default_value = "continuum")]
     pub method: Method,
-    /// Number of DER edges (method der).
+    /// Number of DER edges (method der), at most helixreach::limits::MAX_N_EDGES.
     #[arg(long, default_value_t = 100)]
     pub n_edges: usize,
     /// Directions from a CSV with columns dir_kappa,dir_tau,dir_omega.
     #[arg(long)]
     pub directions: Option<PathBuf>,
-    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0.
+    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0 (N at most
+    /// helixreach::limits::MAX_DIRECTIONS).
     #[arg(long)]
     pub fibonacci: Option<usize>,
     /// With --fibonacci: the quarter κ ≥ 0, τ > 0 used by the experiment.
     #[arg(long, requires = "fibonacci")]
     pub quarter: bool,
     /// Poisson's ratio ν (c = 1/(1+ν)); the boundary does not depend on it.
-    #[arg(long, default_value_t = 0.33)]
+    #[arg(long, default_value_t = 0.33, allow_negative_numbers = true)]
     pub nu: Real,
     /// Relative tolerance on s*.
-    #[arg(long, default_value_t = helixreach::math::tol::S_STAR_REL)]
+    #[arg(long, default_value_t = helixreach::math::tol::S_STAR_REL, allow_negative_numbers = true)]
     pub tol: Real,
     /// Scan step of the continuum test (arc length of the unit-direction helix).
-    #[arg(long, default_value_t = continuum::DEFAULT_STEP)]
+    #[arg(long, default_value_t = continuum::DEFAULT_STEP, allow_negative_numbers = true)]
     pub step: Real,
-    /// Keep rows of an existing --out and compute only the missing directions.
+    /// Continue an existing --out (or its checkpoint OUT.partial) made with the same settings:
+    /// compute only the missing directions.
     #[arg(long)]
     pub resume: bool,
+    /// Replace an existing --out (it is kept until the new result is complete).
+    #[arg(long)]
+    pub force: bool,
     /// Process only block I (0-based) of N contiguous blocks of the directions.
     #[arg(long)]
     pub shard: Option<Shard>,
-    /// Seconds between checkpoints of --out.
-    #[arg(long, default_value_t = 10.0)]
+    /// Seconds between checkpoints (to OUT.partial).
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     pub checkpoint_secs: f64,
-    /// Output CSV.
+    /// Output CSV (`-`: standard output).
     #[arg(long, required_unless_present = "speed_report")]
     pub out: Option<PathBuf>,
     /// Write a speed-versus-error table for this method to FILE instead of a boundary.
@@ -133,7 +142,10 @@ fn row(d: &Direction, r: CriticalS, method: &str, resolution: &str) -> Vec<Strin
 fn load_directions(a: &Args) -> anyhow::Result<Vec<Direction>> {
     Ok(match (&a.directions, a.fibonacci) {
         (Some(p), _) => directions::read_csv(p)?,
-        (None, Some(n)) => directions::fibonacci(n, a.quarter)?,
+        (None, Some(n)) => {
+            helixreach::limits::check_size("--fibonacci", n, helixreach::limits::MAX_DIRECTIONS)?;
+            directions::fibonacci(n, a.quarter)?
+        }
         (None, None) => bail!("give --directions FILE.csv or --fibonacci N"),
     })
 }
@@ -192,21 +204,38 @@ fn method_name(m: Method) -> &'static str {
 
 /// Run `helixreach boundary`.
 pub fn run(a: Args) -> anyhow::Result<()> {
+    // Cheap checks first: a bad output path or size fails before any computation.
+    helixreach::limits::check_size("--n-edges", a.n_edges, helixreach::limits::MAX_N_EDGES)?;
+    for p in a.out.iter().chain(&a.speed_report) {
+        helixreach::io::check_output(p)?;
+    }
+    if !(a.checkpoint_secs.is_finite()
+        && (0.0..=helixreach::limits::MAX_CHECKPOINT_SECS).contains(&a.checkpoint_secs))
+    {
+        bail!(
+            "invalid --checkpoint-secs {}: must be in 0..={} (helixreach::limits)",
+            helixreach::error::fmt_num(a.checkpoint_secs),
+            helixreach::limits::MAX_CHECKPOINT_SECS
+        );
+    }
     let dirs = load_directions(&a)?;
     if let Some(report) = &a.speed_report {
         return speed_report(&a, &dirs, report);
     }
     let out = a.out.clone().context("--out is required")?;
-    if !(a.checkpoint_secs.is_finite() && a.checkpoint_secs >= 0.0) {
-        bail!(
-            "invalid --checkpoint-secs {}: must be >= 0",
-            a.checkpoint_secs
-        );
-    }
     let (solve, resolution) = solver(a.method, a.nu, a.tol, a.step, a.n_edges)?;
     let method = method_name(a.method);
-    let mut opts = SweepOptions::new(&out, &HEADER, 3);
+    let mut opts = SweepOptions::new(&out, &HEADER, 3)
+        .sweep("boundary")
+        .setting("method", method)
+        .setting("resolution", &resolution)
+        .setting("tol", a.tol)
+        .setting("nu", a.nu);
+    if a.method == Method::Continuum {
+        opts = opts.setting("step", a.step);
+    }
     opts.resume = a.resume;
+    opts.force = a.force;
     opts.shard = a.shard;
     opts.checkpoint_interval = Duration::from_secs_f64(a.checkpoint_secs);
     opts.progress = true;
@@ -228,16 +257,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// CPU time consumed by the calling thread (Linux `/proc/thread-self/schedstat`, first field in
-/// ns), or `None` elsewhere.
-fn thread_cpu_seconds() -> Option<f64> {
-    let t = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = t.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
-}
-
 /// Timing passes per resolution in `--speed-report` (the best one is reported).
 const REPEATS: usize = 3;
+
+/// Least CPU time of one timing pass: the directions are solved again until it is reached, so
+/// the per-direction time is far above the clock's resolution (1 ns for the thread CPU clock).
+const MIN_PASS_SECONDS: f64 = 0.05;
 
 /// Time per direction (single-thread CPU time, best of [`REPEATS`] passes) and error versus a tight
 /// continuum reference (tolerance 1e-13, a 4× finer scan step).
@@ -268,18 +293,24 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
         let mut per = f64::INFINITY;
         let mut s = Vec::new();
         for _ in 0..REPEATS {
-            let t0 = Instant::now();
-            let c0 = thread_cpu_seconds();
-            // A failing direction counts as an infinite error (reported, not hidden).
-            s = dirs
-                .iter()
-                .map(|d| solve(d).map(|r| r.s_star).unwrap_or(Real::NAN))
-                .collect::<Vec<Real>>();
-            let dt = match (c0, thread_cpu_seconds()) {
-                (Some(a), Some(b)) => b - a,
-                _ => t0.elapsed().as_secs_f64(),
-            };
-            per = per.min(dt / dirs.len() as f64);
+            let c0 = helixreach::cpu_time::thread_cpu_seconds()?;
+            let mut solved = 0usize;
+            loop {
+                // A failing direction counts as an infinite error (reported, not hidden).
+                s = dirs
+                    .iter()
+                    .map(|d| solve(d).map(|r| r.s_star).unwrap_or(Real::NAN))
+                    .collect::<Vec<Real>>();
+                solved += dirs.len();
+                if helixreach::cpu_time::thread_cpu_seconds()? - c0 >= MIN_PASS_SECONDS {
+                    break;
+                }
+            }
+            let dt = helixreach::cpu_time::thread_cpu_seconds()? - c0;
+            per = per.min(dt / solved as f64);
+        }
+        if !(per > 0.0 && per.is_finite()) {
+            bail!("{method} {label}: measured time per direction {per} s is not positive");
         }
         let failed: Vec<&Direction> = dirs
             .iter()

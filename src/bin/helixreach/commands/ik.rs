@@ -21,13 +21,14 @@ pub struct Args {
     /// Leave the roll about the tool z axis free (only position + tool axis are imposed).
     #[arg(long)]
     pub free_roll: bool,
-    /// Number of values of the redundancy joint (evenly spaced over its range).
+    /// Number of values of the redundancy joint (evenly spaced over its range), at most
+    /// helixreach::limits::MAX_IK_SAMPLES.
     #[arg(long, default_value_t = 8)]
     pub samples: usize,
     /// The joint locked as the redundancy parameter (0-based).
     #[arg(long, default_value_t = 0)]
     pub redundancy_joint: usize,
-    /// Random restarts per redundancy value.
+    /// Random restarts per redundancy value, at most helixreach::limits::MAX_IK_RESTARTS.
     #[arg(long, default_value_t = 50)]
     pub restarts: usize,
     /// Seed of the random restarts.
@@ -37,6 +38,9 @@ pub struct Args {
 
 /// Run `helixreach ik`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    use helixreach::limits::{check_size, MAX_IK_RESTARTS, MAX_IK_SAMPLES};
+    check_size("--samples", args.samples, MAX_IK_SAMPLES)?;
+    check_size("--restarts", args.restarts, MAX_IK_RESTARTS)?;
     let model = RobotModel::load(&args.robot, args.tip.as_deref())?;
     let pose = pose_from_xyz_wxyz(&parse_list("--pose", &args.pose)?)?;
     let mut target = IkTarget::pose(pose)?;

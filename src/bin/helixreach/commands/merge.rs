@@ -1,11 +1,10 @@
-//! `helixreach merge`: join the shard outputs of `helixreach boundary` or `helixreach reach`
-//! (`--shard I/N` writes the contiguous block I of the directions) into one CSV in direction
-//! order. Give the files in shard order (0/N, 1/N, …). Every file must have the same header; a
-//! key (the first `--key-columns` fields, the direction) present twice is an error. The output is
-//! written atomically.
+//! `helixreach merge`: join the shard outputs of a sweep (`boundary`, `reach`, … run with
+//! `--shard I/N`) into one CSV in item order. Give the files in shard order (0/N, 1/N, …).
+//! Refused (see `helixreach::sweep::merge`): an input without a settings record, inputs made
+//! with different settings, a missing, repeated or misplaced shard, an unfinished shard, a key
+//! present twice. The output is locked and written atomically; an existing output is replaced
+//! only with `--force`.
 
-use anyhow::{bail, Context};
-use std::collections::HashSet;
 use std::path::PathBuf;
 
 /// Arguments of `helixreach merge`.
@@ -20,62 +19,18 @@ pub struct Args {
     /// Output CSV.
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace an existing output.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Run `helixreach merge`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let mut header: Option<csv::StringRecord> = None;
-    let mut seen = HashSet::new();
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let mut n = 0usize;
-    for p in &a.inputs {
-        let mut rdr = csv::Reader::from_path(p).with_context(|| format!("{}", p.display()))?;
-        let h = rdr
-            .headers()
-            .with_context(|| format!("{}: reading the header", p.display()))?
-            .clone();
-        if a.key_columns == 0 || a.key_columns > h.len() {
-            bail!(
-                "{}: --key-columns {} must be in 1..={}",
-                p.display(),
-                a.key_columns,
-                h.len()
-            );
-        }
-        match &header {
-            None => {
-                w.write_record(&h)?;
-                header = Some(h);
-            }
-            Some(h0) if *h0 != h => bail!(
-                "{}: header `{}` differs from `{}` of {}",
-                p.display(),
-                h.iter().collect::<Vec<_>>().join(","),
-                h0.iter().collect::<Vec<_>>().join(","),
-                a.inputs[0].display()
-            ),
-            Some(_) => {}
-        }
-        for (k, rec) in rdr.records().enumerate() {
-            let rec = rec.with_context(|| format!("{}:{}", p.display(), k + 2))?;
-            let key: Vec<String> = rec.iter().take(a.key_columns).map(str::to_string).collect();
-            if !seen.insert(key.clone()) {
-                bail!(
-                    "{}:{}: key `{}` already present in an earlier input (overlapping shards?)",
-                    p.display(),
-                    k + 2,
-                    key.join(",")
-                );
-            }
-            w.write_record(&rec)?;
-            n += 1;
-        }
-    }
-    let bytes = w.into_inner().context("serializing the merged CSV")?;
-    helixreach::io::write_atomic(&a.out, &bytes)?;
+    let s = helixreach::sweep::merge::merge(&a.inputs, a.key_columns, &a.out, a.force)?;
     eprintln!(
-        "merge: {n} rows from {} files -> {}",
-        a.inputs.len(),
+        "merge: {} rows from {} shards -> {}",
+        s.rows,
+        s.shards,
         a.out.display()
     );
     Ok(())

@@ -24,9 +24,10 @@ pub struct Args {
     #[arg(long)]
     pub roll: Option<RollMode>,
     /// The boundary s* along the ray; default: the continuum conjugate-point test.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub s_star: Option<f64>,
-    /// Waypoints uniform in s instead of the rig's spacing (e.g. 2000, the seed's density).
+    /// Waypoints uniform in s instead of the rig's spacing (e.g. 2000, the seed's density); at
+    /// most the rig's `max_waypoints`.
     #[arg(long)]
     pub waypoints: Option<usize>,
     /// Output trajectory CSV.
@@ -52,12 +53,20 @@ fn parse_direction(s: &str) -> anyhow::Result<Direction> {
 
 /// Run `helixreach plan`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    helixreach::io::check_output(&args.out)?;
+    if let Some(j) = &args.json {
+        helixreach::io::check_output(j)?;
+    }
     let dir = parse_direction(&args.direction)?;
     let mut rig = Rig::load(&args.rig)?;
     if let Some(n) = args.waypoints {
-        anyhow::ensure!(n >= 2, "--waypoints {n}: need at least 2");
+        let max = rig.planner.max_waypoints;
+        anyhow::ensure!(
+            (2..=max).contains(&n),
+            "--waypoints {n}: must be in 2..={max} (the rig's max_waypoints, {})",
+            rig.source
+        );
         rig.planner.waypoints = n;
-        rig.planner.max_waypoints = rig.planner.max_waypoints.max(n);
     }
     let roll = args.roll.unwrap_or(rig.roll);
     let azimuths = match args.azimuth {

@@ -36,24 +36,42 @@ pub struct Args {
     /// Process only shard I/N (0-based) of the directions.
     #[arg(long)]
     pub shard: Option<Shard>,
-    /// Keep the rows of an existing output and compute only the missing directions.
+    /// Continue an existing --out (or its checkpoint OUT.partial) made with the same settings:
+    /// compute only the missing directions.
     #[arg(long)]
     pub resume: bool,
+    /// Replace an existing --out (it is kept until the new result is complete).
+    #[arg(long)]
+    pub force: bool,
+    /// Seconds between checkpoints (to OUT.partial).
+    #[arg(long, default_value_t = 10.0)]
+    pub checkpoint_secs: f64,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-    /// Output CSV.
+    /// Output CSV (`-`: standard output). See `helixreach::sweep::driver` for the data-safety
+    /// rules (settings record, lock, --resume/--force).
     #[arg(long)]
     pub out: PathBuf,
 }
 
 /// Run `helixreach reach`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    use helixreach::limits::{check_size, MAX_AZIMUTHS, MAX_CHECKPOINT_SECS, MAX_DIRECTIONS};
+    helixreach::io::check_output(&args.out)?;
+    if let Some(n) = args.azimuths {
+        check_size("--azimuths", n, MAX_AZIMUTHS)?;
+    }
+    anyhow::ensure!(
+        (0.0..=MAX_CHECKPOINT_SECS).contains(&args.checkpoint_secs),
+        "invalid --checkpoint-secs {}: must be in 0..={MAX_CHECKPOINT_SECS}",
+        helixreach::error::fmt_num(args.checkpoint_secs)
+    );
     let dirs = match (&args.fibonacci, &args.directions) {
-        (Some(n), None) => fibonacci(*n, args.quarter)?,
+        (Some(n), None) => fibonacci(check_size("--fibonacci", *n, MAX_DIRECTIONS)?, args.quarter)?,
         (None, Some(p)) => read_csv(p)?,
         _ => anyhow::bail!("give exactly one of --fibonacci N or --directions FILE"),
     };
@@ -73,6 +91,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let mut sweep = SweepOptions::new(&args.out, &REACH_HEADER, 3);
     sweep.resume = args.resume;
+    sweep.force = args.force;
+    sweep.checkpoint_interval = std::time::Duration::from_secs_f64(args.checkpoint_secs);
     sweep.shard = args.shard;
     sweep.progress = !args.quiet;
     let go = || run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep);

@@ -16,7 +16,10 @@ pub struct Args {
     /// (e.g. robots/sawyer.collision.toml).
     #[arg(long)]
     pub write_disabled: Option<PathBuf>,
-    /// Random configurations sampled by --write-disabled.
+    /// Random configurations sampled by --write-disabled: at least
+    /// helixreach::limits::MIN_DISABLED_SAMPLES (10,000), so a pair that collides on 0.1 % of
+    /// the configuration space is listed as never-colliding with probability < 5e-5; at most
+    /// helixreach::limits::MAX_DISABLED_SAMPLES.
     #[arg(long, default_value_t = 50_000)]
     pub samples: usize,
     /// Seed of the sampling.
@@ -43,6 +46,17 @@ fn shape_text(s: &Shape) -> String {
 
 /// Run `helixreach robot`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    use helixreach::limits::{check_range, MAX_DISABLED_SAMPLES, MIN_DISABLED_SAMPLES};
+    if let Some(path) = &args.write_disabled {
+        // Fewer samples would list pairs that do collide as never-colliding (0 samples: all).
+        check_range(
+            "--samples",
+            args.samples,
+            MIN_DISABLED_SAMPLES,
+            MAX_DISABLED_SAMPLES,
+        )?;
+        helixreach::io::check_output(path)?;
+    }
     let m = RobotModel::load(&args.robot, args.tip.as_deref())?;
     println!("robot {} ({})", m.name(), m.source());
     println!(

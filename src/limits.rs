@@ -1,0 +1,90 @@
+//! Upper bounds of every size parameter, in one place.
+//!
+//! Each limit is far above any sensible use (the seed paper's largest sweep is 58,352
+//! directions; its trajectories have 2,000 waypoints) and far below what would exhaust memory
+//! or run for days, so a typo (`--fibonacci 100000000000`, `--n-edges 100000000`) is a clear
+//! error naming the flag, the value and the limit — never an out-of-memory abort or a hang.
+//!
+//! | parameter | limit | why |
+//! |---|---|---|
+//! | directions in a set (`--fibonacci`, rows of a `--directions` CSV) | [`MAX_DIRECTIONS`] = 10,000,000 | 171× the paper's sweep; ~1 GB of rows |
+//! | DER edges (`--n-edges`) | [`MAX_N_EDGES`] = 10,000 | 100× the default; cost grows ~n² per direction |
+//! | azimuths per ray (`--azimuths`, rig `azimuths`) | [`MAX_AZIMUTHS`] = 3,600 | 0.1° spacing |
+//! | IK redundancy samples (`ik --samples`) | [`MAX_IK_SAMPLES`] = 100,000 | |
+//! | IK random restarts (`ik --restarts`) | [`MAX_IK_RESTARTS`] = 100,000 | |
+//! | waypoints per ray (`plan --waypoints`, rig `waypoints`) | the rig's `max_waypoints`, itself ≤ [`MAX_WAYPOINTS`] = 1,000,000 | |
+//! | self-collision sampling (`robot --samples`) | [`MIN_DISABLED_SAMPLES`] = 10,000 ≤ n ≤ [`MAX_DISABLED_SAMPLES`] = 10,000,000 | see [`crate::robot`]'s disabled pairs |
+//! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
+//! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
+//! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |
+//!
+//! ```
+//! use helixreach::limits::{check_size, MAX_N_EDGES};
+//! assert!(check_size("--n-edges", 100, MAX_N_EDGES).is_ok());
+//! let e = check_size("--n-edges", 100_000_000, MAX_N_EDGES).unwrap_err().to_string();
+//! assert!(e.contains("--n-edges") && e.contains("100000000") && e.contains("10000"), "{e}");
+//! ```
+
+use crate::error::{Error, Result};
+
+/// Most directions in one direction set.
+pub const MAX_DIRECTIONS: usize = 10_000_000;
+/// Most DER edges.
+pub const MAX_N_EDGES: usize = 10_000;
+/// Most azimuths tried per ray.
+pub const MAX_AZIMUTHS: usize = 3_600;
+/// Most IK redundancy samples.
+pub const MAX_IK_SAMPLES: usize = 100_000;
+/// Most IK random restarts per redundancy sample.
+pub const MAX_IK_RESTARTS: usize = 100_000;
+/// Most waypoints per ray (the rig's `max_waypoints` may be lower).
+pub const MAX_WAYPOINTS: usize = 1_000_000;
+/// Fewest random configurations for recomputing a robot's never-colliding link pairs: with n
+/// samples, a pair that collides on a fraction p of the configuration space is missed with
+/// probability (1 − p)ⁿ; n = 10,000 misses a p = 0.1 % pair with probability < 5·10⁻⁵.
+pub const MIN_DISABLED_SAMPLES: usize = 10_000;
+/// Most random configurations for the never-colliding pairs.
+pub const MAX_DISABLED_SAMPLES: usize = 10_000_000;
+/// Most shards of a sweep.
+pub const MAX_SHARDS: usize = 100_000;
+/// Longest checkpoint interval, seconds.
+pub const MAX_CHECKPOINT_SECS: f64 = 86_400.0;
+
+/// Most of any other per-ray or per-waypoint count of a rig TOML.
+pub const MAX_RIG_COUNT: usize = 10_000;
+
+/// The upper bound of the rig TOML count `field` (`azimuth.count`, `planner.max_waypoints`, or
+/// [`MAX_RIG_COUNT`]).
+pub fn rig_count_max(field: &str) -> usize {
+    match field {
+        "azimuth.count" => MAX_AZIMUTHS,
+        "planner.max_waypoints" => MAX_WAYPOINTS,
+        _ => MAX_RIG_COUNT,
+    }
+}
+
+/// `Ok(n)` when `n ≤ max`, else an [`Error::InvalidParameter`] naming `what`, `n` and the limit.
+pub fn check_size(what: &str, n: usize, max: usize) -> Result<usize> {
+    if n <= max {
+        Ok(n)
+    } else {
+        Err(Error::invalid(
+            what,
+            n,
+            format!("must be <= {max} (helixreach::limits)"),
+        ))
+    }
+}
+
+/// `Ok(n)` when `min ≤ n ≤ max`, else an error naming `what`, `n` and the range.
+pub fn check_range(what: &str, n: usize, min: usize, max: usize) -> Result<usize> {
+    if (min..=max).contains(&n) {
+        Ok(n)
+    } else {
+        Err(Error::invalid(
+            what,
+            n,
+            format!("must be in {min}..={max} (helixreach::limits)"),
+        ))
+    }
+}

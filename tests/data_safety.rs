@@ -1,0 +1,858 @@
+//! Data safety of sweep outputs, bounded inputs and CLI details (issue 13): a finished result is
+//! never replaced by less, every output records its settings and `--resume` refuses others,
+//! one writer per output, stale temp files removed, checkpoints on time, `--out -` streams,
+//! `merge` checks shards, outputs are checked before computing, every size is bounded.
+//!
+//! Library tests use a cheap synthetic sweep (`x → x²`); CLI tests run the real binary.
+
+use helixreach::sweep::driver::{self, partial_path, Shard, SweepOptions};
+use helixreach::sweep::merge::merge;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+fn key(x: &u64) -> Vec<String> {
+    vec![x.to_string()]
+}
+
+fn square(x: &u64) -> helixreach::Result<Vec<String>> {
+    Ok(vec![x.to_string(), (x * x).to_string()])
+}
+
+fn opts(out: &Path) -> SweepOptions {
+    SweepOptions::new(out, &["x", "x2"], 1)
+        .sweep("squares")
+        .setting("power", 2)
+}
+
+fn items(n: u64) -> Vec<u64> {
+    (0..n).collect()
+}
+
+/// The data rows of a sweep CSV (record and header skipped).
+fn data_rows(path: &Path) -> Vec<String> {
+    let t = std::fs::read_to_string(path).unwrap();
+    t.lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(str::to_string)
+        .collect()
+}
+
+fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_helixreach"));
+    c.env("RAYON_NUM_THREADS", "2");
+    c
+}
+
+/// Run the binary, killing it after `limit` (so a hang fails the test instead of blocking CI).
+fn cli_within(args: &[&str], limit: Duration) -> Output {
+    let mut child = bin()
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if t0.elapsed() > limit {
+            child.kill().unwrap();
+            let o = child.wait_with_output().unwrap();
+            panic!(
+                "`helixreach {}` still running after {limit:?}; stderr: {}",
+                args.join(" "),
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn cli(args: &[&str]) -> Output {
+    cli_within(args, Duration::from_secs(60))
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+// ---------------------------------------------------------------------------------------------
+// A finished result is never replaced by less
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn failed_sweep_leaves_the_finished_output_intact() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.csv");
+    driver::run(&items(50), key, square, &opts(&out)).unwrap();
+    let finished = std::fs::read(&out).unwrap();
+    let mut o = opts(&out);
+    o.force = true;
+    o.batch = 4;
+    o.checkpoint_interval = Duration::ZERO;
+    let e = driver::run(
+        &items(50),
+        key,
+        |x| {
+            if *x == 30 {
+                Err(helixreach::Error::invalid("x", x, "boom"))
+            } else {
+                square(x)
+            }
+        },
+        &o,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("item 30"), "{e}");
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        finished,
+        "finished output replaced"
+    );
+    // The rows finished before the failure (0..29, and 31 of the failing batch 28..31) are
+    // kept beside it.
+    let kept = data_rows(&partial_path(&out));
+    assert_eq!(kept.len(), 31);
+    assert!(!kept.iter().any(|r| r.starts_with("30,")));
+}
+
+#[test]
+fn rerun_over_a_finished_output_is_refused_without_resume_or_force() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.csv");
+    driver::run(&items(20), key, square, &opts(&out)).unwrap();
+    let finished = std::fs::read(&out).unwrap();
+    let computed = AtomicUsize::new(0);
+    let e = driver::run(
+        &items(5),
+        key,
+        |x| {
+            computed.fetch_add(1, Ordering::Relaxed);
+            square(x)
+        },
+        &opts(&out),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("--resume") && e.contains("--force"), "{e}");
+    assert_eq!(computed.load(Ordering::Relaxed), 0);
+    assert_eq!(std::fs::read(&out).unwrap(), finished);
+    // --force replaces it, with a complete result.
+    let mut o = opts(&out);
+    o.force = true;
+    driver::run(&items(5), key, square, &o).unwrap();
+    assert_eq!(data_rows(&out).len(), 5);
+    assert!(!partial_path(&out).exists());
+}
+
+/// Kill a real `boundary` run over a finished output once it has checkpointed: the finished
+/// output is untouched, and `--resume` completes the checkpoint to exactly the uninterrupted
+/// result.
+#[test]
+fn killed_rerun_keeps_the_finished_output_and_resume_completes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b.csv");
+    let o = cli(&["boundary", "--fibonacci", "40", "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let finished = std::fs::read(&out).unwrap();
+
+    let big = [
+        "boundary",
+        "--fibonacci",
+        "1000000",
+        "--checkpoint-secs",
+        "0.2",
+        "--out",
+        s(&out),
+    ];
+    let mut args = big.to_vec();
+    args.push("--force");
+    let mut child = bin()
+        .args(&args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let partial = partial_path(&out);
+    let t0 = Instant::now();
+    while !partial.exists() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(60),
+            "no checkpoint in 60 s"
+        );
+        assert!(child.try_wait().unwrap().is_none(), "run ended early");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        finished,
+        "finished output replaced"
+    );
+    let rows = data_rows(&partial);
+    assert!(!rows.is_empty() && rows.len() < 1_000_000);
+
+    // A plain --resume would replace a result made with other settings: refused.
+    let mut resume = big.to_vec();
+    resume.push("--resume");
+    let o = cli(&resume);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("items"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), finished);
+}
+
+#[test]
+fn kill_and_resume_reproduces_the_uninterrupted_sweep() {
+    // A smaller sweep killed after its first checkpoint, resumed: equal to a clean run.
+    let dir = tempfile::tempdir().unwrap();
+    let (out, clean) = (dir.path().join("k.csv"), dir.path().join("clean.csv"));
+    let args = |p: &Path| {
+        vec![
+            "boundary".to_string(),
+            "--fibonacci".into(),
+            "6000".into(),
+            "--tol".into(),
+            "1e-12".into(),
+            "--checkpoint-secs".into(),
+            "0.1".into(),
+            "--out".into(),
+            s(p).into(),
+        ]
+    };
+    let mut child = bin()
+        .env("RAYON_NUM_THREADS", "1")
+        .args(args(&out))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let partial = partial_path(&out);
+    let t0 = Instant::now();
+    let killed = loop {
+        if partial.exists() {
+            child.kill().unwrap();
+            child.wait().unwrap();
+            break true;
+        }
+        if child.try_wait().unwrap().is_some() {
+            break false; // finished before the first checkpoint: nothing to resume
+        }
+        assert!(t0.elapsed() < Duration::from_secs(60));
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert!(killed, "the sweep finished before its first checkpoint");
+    assert!(
+        !out.exists(),
+        "a killed run must not leave a partial output in place"
+    );
+    let mut r = args(&out);
+    r.push("--resume".into());
+    let r: Vec<&str> = r.iter().map(String::as_str).collect();
+    let o = cli(&r);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("resumed"), "{}", stderr(&o));
+    let c: Vec<String> = args(&clean);
+    let c: Vec<&str> = c.iter().map(String::as_str).collect();
+    assert!(cli(&c).status.success());
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&clean).unwrap());
+    assert!(!partial.exists());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Settings record and resume
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn resume_refuses_mismatched_settings_and_names_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.csv");
+    let o = cli(&["boundary", "--fibonacci", "8", "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let first = text.lines().next().unwrap();
+    for f in [
+        "\"method\":\"continuum\"",
+        "\"tol\":",
+        "\"sweep\":\"boundary\"",
+        "\"tool\":\"helixreach",
+        "\"items\":8",
+        "\"items_digest\":",
+    ] {
+        assert!(first.contains(f), "record lacks {f}: {first}");
+    }
+    let o = cli(&[
+        "boundary",
+        "--fibonacci",
+        "8",
+        "--method",
+        "der",
+        "--resume",
+        "--out",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("method: `continuum` vs `der`"), "{e}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+    // The same settings resume: nothing recomputed, file unchanged.
+    let o = cli(&["boundary", "--fibonacci", "8", "--resume", "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("0 computed, 8 resumed"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+}
+
+#[test]
+fn resume_with_another_shard_refuses_instead_of_dropping_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.csv");
+    assert!(cli(&["boundary", "--fibonacci", "9", "--out", s(&out)])
+        .status
+        .success());
+    let o = cli(&[
+        "boundary",
+        "--fibonacci",
+        "9",
+        "--shard",
+        "2/3",
+        "--resume",
+        "--out",
+        s(&out),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("shard: `none` vs `2/3`"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(data_rows(&out).len(), 9);
+}
+
+#[test]
+fn resume_refuses_rows_outside_the_item_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.csv");
+    driver::run(&items(10), key, square, &opts(&out)).unwrap();
+    // Hand-add a row that is no item of the sweep: resuming must not silently drop it.
+    let mut t = std::fs::read_to_string(&out).unwrap();
+    t.push_str("99,9801\n");
+    std::fs::write(&out, &t).unwrap();
+    let mut o = opts(&out);
+    o.resume = true;
+    let e = driver::run(&items(10), key, square, &o)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`99` is not an item"), "{e}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), t);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lock, temp files, checkpoints
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn second_writer_of_an_output_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("l.csv");
+    let started = std::sync::Barrier::new(2);
+    let release = std::sync::Barrier::new(2);
+    std::thread::scope(|sc| {
+        let first = sc.spawn(|| {
+            driver::run(
+                &items(4),
+                key,
+                |x| {
+                    if *x == 0 {
+                        started.wait();
+                        release.wait();
+                    }
+                    square(x)
+                },
+                &{
+                    let mut o = opts(&out);
+                    o.batch = 1;
+                    o
+                },
+            )
+        });
+        started.wait();
+        let e = driver::run(&items(4), key, square, &opts(&out))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("being written by another process"), "{e}");
+        release.wait();
+        first.join().unwrap().unwrap();
+    });
+    assert_eq!(data_rows(&out).len(), 4);
+    assert!(!helixreach::io::lock_path(&out).exists());
+}
+
+#[test]
+fn concurrent_cli_writers_second_fails_clearly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("w.csv");
+    let mut first = bin()
+        .args(["boundary", "--fibonacci", "1000000", "--out", s(&out)])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = helixreach::io::lock_path(&out);
+    let t0 = Instant::now();
+    while !lock.exists() {
+        assert!(t0.elapsed() < Duration::from_secs(30));
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let o = cli(&["boundary", "--fibonacci", "10", "--force", "--out", s(&out)]);
+    first.kill().unwrap();
+    first.wait().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("being written by another process (pid"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn stale_temp_files_of_killed_runs_are_removed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t.csv");
+    // 4194304 exceeds Linux's largest pid: a process that no longer exists.
+    let stale = [
+        dir.path().join("t.csv.4194304.tmp"),
+        dir.path().join("t.csv.partial.4194304.tmp"),
+    ];
+    for p in &stale {
+        std::fs::write(p, "half a row").unwrap();
+    }
+    driver::run(&items(3), key, square, &opts(&out)).unwrap();
+    for p in &stale {
+        assert!(!p.exists(), "{} left behind", p.display());
+    }
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("t.csv")]);
+}
+
+#[test]
+fn checkpoints_honour_the_interval() {
+    // 20 ms items, 1 thread, 200 ms interval: the first checkpoint comes after ~250 ms (a batch
+    // lasts a quarter interval), not after a large fixed batch (64 items = 1.3 s).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.csv");
+    let mut o = opts(&out);
+    o.checkpoint_interval = Duration::from_millis(200);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let summary = pool
+        .install(|| {
+            driver::run(
+                &items(100),
+                key,
+                |x| {
+                    std::thread::sleep(Duration::from_millis(20));
+                    square(x)
+                },
+                &o,
+            )
+        })
+        .unwrap();
+    let first = summary
+        .first_checkpoint
+        .expect("no checkpoint in a 2 s sweep");
+    assert!(
+        first < Duration::from_millis(600),
+        "first checkpoint at {first:?}"
+    );
+    assert!(summary.checkpoints >= 4, "{summary:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// stdout and non-regular outputs
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn out_dash_streams_to_stdout_in_input_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("f.csv");
+    assert!(cli(&["boundary", "--fibonacci", "30", "--out", s(&file)])
+        .status
+        .success());
+    let o = bin()
+        .current_dir(dir.path())
+        .args(["boundary", "--fibonacci", "30", "--out", "-"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(o.stdout, std::fs::read(&file).unwrap());
+    assert!(!dir.path().join("-").exists(), "wrote a file named `-`");
+}
+
+#[cfg(unix)]
+#[test]
+fn non_regular_output_is_written_in_place() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe");
+    let c = std::ffi::CString::new(s(&fifo)).unwrap();
+    // SAFETY: a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = fifo.clone();
+    std::thread::spawn(move || {
+        let _ = tx.send(std::fs::read_to_string(reader).unwrap());
+    });
+    driver::run(&items(5), key, square, &opts(&fifo)).unwrap();
+    let text = rx.recv_timeout(Duration::from_secs(20)).unwrap();
+    assert!(text.ends_with("x,x2\n0,0\n1,1\n2,4\n3,9\n4,16\n"), "{text}");
+    let t = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(t.is_fifo(), "the FIFO was replaced by a regular file");
+}
+
+// ---------------------------------------------------------------------------------------------
+// merge
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn merge_refuses_gaps_disorder_duplicates_and_mixed_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 23;
+    let whole = dir.path().join("whole.csv");
+    driver::run(&items(n), key, square, &opts(&whole)).unwrap();
+    let shard = |i: usize, power: u32| -> PathBuf {
+        let p = dir.path().join(format!("s{i}-{power}.csv"));
+        let mut o = opts(&p).setting("power", power);
+        o.shard = Some(Shard::new(i, 3).unwrap());
+        driver::run(&items(n), key, square, &o).unwrap();
+        p
+    };
+    let sh: Vec<PathBuf> = (0..3).map(|i| shard(i, 2)).collect();
+    let out = dir.path().join("m.csv");
+    let err = |inputs: &[PathBuf]| merge(inputs, 1, &out, true).unwrap_err().to_string();
+
+    let e = err(&sh[..2]);
+    assert!(e.contains("missing 2/3"), "{e}");
+    let e = err(&[sh[0].clone(), sh[2].clone(), sh[1].clone()]);
+    assert!(e.contains("is shard 2/3, expected 1/3"), "{e}");
+    let e = err(&[sh[0].clone(), sh[0].clone(), sh[2].clone()]);
+    assert!(e.contains("expected 1/3"), "{e}");
+    let e = err(&[sh[0].clone(), shard(1, 3), sh[2].clone()]);
+    assert!(e.contains("power: `2` vs `3`"), "{e}");
+    // An unfinished (truncated) shard.
+    let cut = dir.path().join("cut.csv");
+    let t = std::fs::read_to_string(&sh[1]).unwrap();
+    let keep: Vec<&str> = t.lines().take(4).collect();
+    std::fs::write(&cut, keep.join("\n") + "\n").unwrap();
+    let e = err(&[sh[0].clone(), cut, sh[2].clone()]);
+    assert!(e.contains("must hold 8 rows, it holds 2"), "{e}");
+    // A file without a record (e.g. hand-made) cannot be checked: refused.
+    let bare = dir.path().join("bare.csv");
+    std::fs::write(&bare, "x,x2\n0,0\n").unwrap();
+    assert!(err(&[bare]).contains("no settings record"));
+    assert!(!out.exists());
+
+    // The complete, ordered set merges to exactly the unsharded output.
+    merge(&sh, 1, &out, false).unwrap();
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&whole).unwrap());
+    // And an existing output is replaced only with force.
+    assert!(merge(&sh, 1, &out, false).is_err());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Outputs checked before computing; bounds
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn unwritable_output_fails_before_computing() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let computed = AtomicUsize::new(0);
+    let e = driver::run(
+        &items(10),
+        key,
+        |x| {
+            computed.fetch_add(1, Ordering::Relaxed);
+            square(x)
+        },
+        &opts(&file.join("out.csv")),
+    )
+    .unwrap_err()
+    .to_string();
+    assert_eq!(computed.load(Ordering::Relaxed), 0, "{e}");
+    assert!(e.contains("a-file"), "{e}");
+    // The CLI checks --out before loading anything.
+    let o = cli(&[
+        "boundary",
+        "--fibonacci",
+        "10",
+        "--out",
+        s(&file.join("x.csv")),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("a-file"), "{}", stderr(&o));
+}
+
+#[test]
+fn size_parameters_are_bounded_with_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.csv");
+    let out = s(&out);
+    let cases: [(&[&str], &[&str]); 7] = [
+        (
+            &[
+                "boundary",
+                "--method",
+                "der",
+                "--n-edges",
+                "100000000",
+                "--fibonacci",
+                "4",
+                "--out",
+                out,
+            ],
+            &["--n-edges", "100000000", "10000"],
+        ),
+        (
+            &["boundary", "--fibonacci", "100000000000", "--out", out],
+            &["--fibonacci", "100000000000", "10000000"],
+        ),
+        (
+            &[
+                "reach",
+                "--fibonacci",
+                "4",
+                "--azimuths",
+                "1000000000",
+                "--out",
+                out,
+            ],
+            &["--azimuths", "1000000000", "3600"],
+        ),
+        (
+            &[
+                "ik",
+                "--robot",
+                "sawyer",
+                "--pose",
+                "0.5,0,0.5,1,0,0,0",
+                "--samples",
+                "100000000",
+            ],
+            &["--samples", "100000000", "100000"],
+        ),
+        (
+            &[
+                "plan",
+                "--direction",
+                "0.3,0.9,0.3",
+                "--waypoints",
+                "100000000",
+                "--out",
+                out,
+            ],
+            &["--waypoints", "100000000", "max_waypoints"],
+        ),
+        (
+            &[
+                "boundary",
+                "--fibonacci",
+                "4",
+                "--shard",
+                "0/1000000000",
+                "--out",
+                out,
+            ],
+            &["shard", "1000000000"],
+        ),
+        (
+            &[
+                "boundary",
+                "--fibonacci",
+                "4",
+                "--checkpoint-secs",
+                "1e300",
+                "--out",
+                out,
+            ],
+            &["--checkpoint-secs", "1e300"],
+        ),
+    ];
+    for (args, needles) in cases {
+        let t0 = Instant::now();
+        let o = cli_within(args, Duration::from_secs(30));
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+        for n in needles {
+            assert!(e.contains(n), "{args:?}: `{n}` not in {e}");
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(20),
+            "{args:?} took {:?}",
+            t0.elapsed()
+        );
+    }
+}
+
+#[test]
+fn rig_counts_are_bounded() {
+    let text = include_str!("../robots/sawyer-seed.toml")
+        .replace("redundancy_samples = 8", "redundancy_samples = 100000000");
+    let e = helixreach::planning::rig::Rig::from_toml_str(&text, "big.toml", Path::new("robots"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("big.toml")
+            && e.contains("planner.redundancy_samples")
+            && e.contains("100000000"),
+        "{e}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// speed report, write-disabled, CLI details
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn speed_report_never_writes_zero_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = dir.path().join("speed.csv");
+    let o = cli(&["boundary", "--fibonacci", "3", "--speed-report", s(&r)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = std::fs::read_to_string(&r).unwrap();
+    let mut n = 0;
+    for l in t.lines().skip(1) {
+        let secs: f64 = l.split(',').nth(2).unwrap().parse().unwrap();
+        assert!(secs > 1e-8 && secs < 1.0, "{l}");
+        n += 1;
+    }
+    assert_eq!(n, 5, "{t}");
+}
+
+#[test]
+fn write_disabled_requires_enough_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("f.toml");
+    for n in ["0", "9999"] {
+        let o = cli(&[
+            "robot",
+            "--robot",
+            "sawyer",
+            "--samples",
+            n,
+            "--write-disabled",
+            s(&f),
+        ]);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(
+            stderr(&o).contains("--samples") && stderr(&o).contains("10000"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!f.exists());
+    }
+}
+
+/// The disabled-pair lists shipped in `robots/` against a fresh sampling with another seed: a
+/// pair listed as never colliding must not collide in any fresh sample, a pair listed as always
+/// colliding must collide in every one.
+#[test]
+fn shipped_disabled_pairs_agree_with_a_fresh_sampling() {
+    use helixreach::robot::{DisabledPairs, RobotModel, BUILTINS};
+    for b in BUILTINS.iter() {
+        let m = RobotModel::load(b.name, None).unwrap();
+        let shipped = DisabledPairs::for_model(&m).unwrap();
+        let fresh = DisabledPairs::compute(&m, 20_000, shipped.seed.wrapping_add(7919)).unwrap();
+        let set = |d: &DisabledPairs, why: &str| -> std::collections::BTreeSet<(String, String)> {
+            d.disabled
+                .iter()
+                .filter(|p| p.reason == why)
+                .map(|p| (p.a.clone().min(p.b.clone()), p.a.clone().max(p.b.clone())))
+                .collect()
+        };
+        for why in ["never", "always"] {
+            let (listed, seen) = (set(&shipped, why), set(&fresh, why));
+            let wrong: Vec<_> = listed.difference(&seen).collect();
+            assert!(
+                wrong.is_empty(),
+                "{}: shipped `{why}` pairs contradicted: {wrong:?}",
+                b.name
+            );
+        }
+    }
+}
+
+#[test]
+fn negative_numbers_after_flags_parse() {
+    let o = cli(&["helix", "--kappa", "1", "--tau", "-1", "--omega", "-0.5"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A negative value reaches validation (named), not the argument parser.
+    let o = cli(&["boundary", "--fibonacci", "4", "--tol", "-1", "--out", "-"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        !e.contains("unexpected argument") && e.contains("tol"),
+        "{e}"
+    );
+}
+
+#[test]
+fn os_errors_are_printed_once() {
+    let o = cli(&[
+        "boundary",
+        "--directions",
+        "/nonexistent/d.csv",
+        "--out",
+        "-",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("/nonexistent/d.csv"), "{e}");
+    assert_eq!(e.matches("No such file or directory").count(), 1, "{e}");
+}
+
+#[test]
+fn unknown_robot_lists_the_built_in_ones() {
+    let o = cli(&["fk", "--robot", "kuka", "--joints", "0,0,0,0,0,0,0"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("kuka") && e.contains("sawyer, panda, iiwa14"),
+        "{e}"
+    );
+}
+
+#[test]
+fn huge_numbers_print_compactly_in_errors() {
+    let o = cli(&[
+        "boundary",
+        "--fibonacci",
+        "4",
+        "--tol",
+        "1e300",
+        "--out",
+        "-",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("1e300") && !e.contains("10000000000000000"),
+        "{e}"
+    );
+}
