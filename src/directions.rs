@@ -33,7 +33,16 @@ pub struct Direction {
 }
 
 impl Direction {
-    /// Normalize `(kappa, tau, omega)`; errors on a zero or non-finite vector or κ < 0.
+    /// Normalize `(kappa, tau, omega)`; errors on a zero or non-finite vector or κ < 0. Any
+    /// finite non-zero vector normalizes, from subnormal components to 1e308.
+    ///
+    /// ```
+    /// use helixreach::directions::Direction;
+    /// let d = Direction::new(1e308, 1e308, 0.0).unwrap();
+    /// assert!((d.kappa - 0.5f64.sqrt()).abs() < 1e-15 && (d.tau - d.kappa).abs() < 1e-15);
+    /// let d = Direction::new(0.0, 5e-324, 0.0).unwrap();
+    /// assert_eq!(d.tau, 1.0);
+    /// ```
     pub fn new(kappa: Real, tau: Real, omega: Real) -> Result<Self> {
         for (name, v) in [("dir_kappa", kappa), ("dir_tau", tau), ("dir_omega", omega)] {
             if !v.is_finite() {
@@ -48,17 +57,30 @@ impl Direction {
             ));
         }
         let n = (kappa * kappa + tau * tau + omega * omega).sqrt();
-        if n <= 0.0 || !n.is_finite() {
+        if n.is_finite() && n >= 1e-150 {
+            return Ok(Direction {
+                kappa: kappa / n,
+                tau: tau / n,
+                omega: omega / n,
+            });
+        }
+        // The squares overflowed (components near 1e308) or lost precision to underflow (below
+        // 1e-154): normalize by the largest component first.
+        let m = kappa.abs().max(tau.abs()).max(omega.abs());
+        if m == 0.0 {
+            let f = crate::error::fmt_num;
             return Err(Error::invalid(
                 "direction",
-                format!("({kappa}, {tau}, {omega})"),
+                format!("({}, {}, {})", f(kappa), f(tau), f(omega)),
                 "must be a non-zero vector",
             ));
         }
+        let (k, t, w) = (kappa / m, tau / m, omega / m);
+        let n = (k * k + t * t + w * w).sqrt();
         Ok(Direction {
-            kappa: kappa / n,
-            tau: tau / n,
-            omega: omega / n,
+            kappa: k / n,
+            tau: t / n,
+            omega: w / n,
         })
     }
 
