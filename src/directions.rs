@@ -142,6 +142,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<Direction>> {
     for (k, rec) in table.reader.records().enumerate() {
         let line = k + 2;
         let rec = rec.map_err(|e| crate::io::bad_line(path, line, "record", e.to_string()))?;
+        let line = crate::io::line_of(&rec, line);
         let get = |i: usize, name: &str| crate::io::parse_field(path, line, &rec, i, name);
         let (a, b, c) = (
             get(ik, "dir_kappa")?,

@@ -369,6 +369,12 @@ impl CsvInput {
     }
 }
 
+/// The 1-based line of a CSV record in its file (counting `#` comment lines such as a settings
+/// record), or `fallback` when the reader did not record a position.
+pub fn line_of(rec: &csv::StringRecord, fallback: usize) -> usize {
+    rec.position().map_or(fallback, |p| p.line() as usize)
+}
+
 /// An [`Error::BadLine`] for `path` at 1-based `line`.
 pub fn bad_line(path: &Path, line: usize, field: &str, reason: String) -> Error {
     Error::BadLine {

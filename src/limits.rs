@@ -14,6 +14,8 @@
 //! | IK random restarts (`ik --restarts`) | [`MAX_IK_RESTARTS`] = 100,000 | |
 //! | waypoints per ray (`plan --waypoints`, rig `waypoints`) | the rig's `max_waypoints`, itself ≤ [`MAX_WAYPOINTS`] = 1,000,000 | |
 //! | self-collision sampling (`robot --samples`) | [`MIN_DISABLED_SAMPLES`] = 10,000 ≤ n ≤ [`MAX_DISABLED_SAMPLES`] = 10,000,000 | see [`crate::robot`]'s disabled pairs |
+//! | DER edges of `simulate`/`disturbances` (`--n-edges`) | [`MAX_N_EDGES`] | |
+//! | rendered frames (`render --frames`, `--gif-frames`) | [`MAX_FRAMES`] = 10,000 | one image each |
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
 //! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
 //! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |
@@ -45,6 +47,8 @@ pub const MAX_WAYPOINTS: usize = 1_000_000;
 pub const MIN_DISABLED_SAMPLES: usize = 10_000;
 /// Most random configurations for the never-colliding pairs.
 pub const MAX_DISABLED_SAMPLES: usize = 10_000_000;
+/// Most rendered frames.
+pub const MAX_FRAMES: usize = 10_000;
 /// Most shards of a sweep.
 pub const MAX_SHARDS: usize = 100_000;
 /// Longest checkpoint interval, seconds.

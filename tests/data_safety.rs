@@ -614,7 +614,19 @@ fn size_parameters_are_bounded_with_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o.csv");
     let out = s(&out);
-    let cases: [(&[&str], &[&str]); 7] = [
+    let cases: [(&[&str], &[&str]); 8] = [
+        (
+            &[
+                "simulate",
+                "--direction",
+                "0.3,0.9,0.3",
+                "--n-edges",
+                "100000000",
+                "--out",
+                out,
+            ],
+            &["--n-edges", "100000000", "10000"],
+        ),
         (
             &[
                 "boundary",

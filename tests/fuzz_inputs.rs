@@ -120,6 +120,12 @@ fn malformed_direction_csvs_are_rejected_naming_file_field_and_value() {
         case("extreme_1e308", format!("{H}1e308,1e308,1e308\n"), K),
         case("tiny_1e-308", format!("{H}1e-308,0,1e-308\n"), K),
         case("minus_zero", format!("{H}-0,1,-0\n"), K),
+        // A settings record (as a sweep output has) shifts the line numbers.
+        case(
+            "with_record",
+            format!("# helixreach-settings {{}}\n{H}1,0,0\n1,x,0\n"),
+            E(&[":4", "dir_tau", "`x`"]),
+        ),
         case("padded", format!("{H} 1 , 2 , 3 \n"), K),
     ];
     run_corpus(&cases, "csv", read_csv, |v| v.iter().all(unit));

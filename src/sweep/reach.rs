@@ -65,6 +65,8 @@ impl BoundaryTable {
             let line = k + 2;
             let bad = |field: &str, reason: String| crate::io::bad_line(path, line, field, reason);
             let rec = rec.map_err(|e| bad("record", e.to_string()))?;
+            let line = crate::io::line_of(&rec, line);
+            let bad = |field: &str, reason: String| crate::io::bad_line(path, line, field, reason);
             let mut v = [0.0; 4];
             for (i, (&c, name)) in cols
                 .iter()

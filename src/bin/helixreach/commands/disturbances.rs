@@ -41,6 +41,9 @@ pub struct Args {
 
 /// Run `helixreach disturbances`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(n) = args.n_edges {
+        helixreach::limits::check_size("--n-edges", n, helixreach::limits::MAX_N_EDGES)?;
+    }
     let base = SimParams {
         rod: Preset::parse(&args.preset)?.rod(),
         n_edges: args.n_edges.unwrap_or(if args.quick { 16 } else { 30 }),

@@ -87,6 +87,8 @@ fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::R
         let line = k + 2;
         let bad = |field: &str, reason: String| helixreach::io::bad_line(path, line, field, reason);
         let rec = rec.map_err(|e| bad("record", e.to_string()))?;
+        let line = helixreach::io::line_of(&rec, line);
+        let bad = |field: &str, reason: String| helixreach::io::bad_line(path, line, field, reason);
         let mut v = [0.0; 3];
         for (j, name) in ["kappa", "tau", "omega"].iter().enumerate() {
             v[j] = helixreach::io::parse_field(path, line, &rec, cols[j], name)?;

@@ -22,7 +22,7 @@ pub struct Args {
     #[arg(long)]
     pub frames: Option<usize>,
     /// s* for the default frames; default: the continuum boundary of the trajectory's direction.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub s_star: Option<f64>,
     /// Views, comma-separated, from front, side, top, iso.
     #[arg(long, default_value = "front,side,top,iso")]
@@ -49,6 +49,11 @@ pub struct Args {
 
 /// Run `helixreach render`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    use helixreach::limits::{check_size, MAX_FRAMES};
+    if let Some(n) = args.frames {
+        check_size("--frames", n, MAX_FRAMES)?;
+    }
+    check_size("--gif-frames", args.gif_frames, MAX_FRAMES)?;
     let rig = Rig::load(&args.rig)?;
     let views = View::parse_list(&args.views)?;
     let frames = match args.frames {

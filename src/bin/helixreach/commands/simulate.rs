@@ -79,6 +79,8 @@ pub struct Args {
 
 /// Run `helixreach simulate`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    use helixreach::limits::{check_size, MAX_N_EDGES};
+    check_size("--n-edges", args.n_edges, MAX_N_EDGES)?;
     let [k, t, w] = <[Real; 3]>::try_from(args.direction.as_slice())
         .map_err(|_| Error::invalid("direction", format!("{:?}", args.direction), "give K,T,W"))?;
     let dir = Direction::new(k, t, w)?;
