@@ -4,9 +4,12 @@
 //! ([`crate::rod::clamp`]): edge 0 along z with the identity material frame at the origin, edge
 //! n−1 at the end of the helix `(κ, τ, ω) = s·S̄` with its tangent and its material frame (the
 //! transported frame turned by `ω/c` about the tangent). The equilibrium is found by Newton
-//! ([`crate::rod::statics`]) starting from the helix sampled at the nodes — the continuum
-//! equilibrium is the helix, so this start is `O(1/n²)` from the discrete equilibrium and no
-//! continuation in s is needed (every s is solved independently). The twist angles start at
+//! ([`crate::rod::statics`]) and followed along the ray by continuation in s: the first point
+//! of a ray is a nearly straight rod (s ≤ 1) started from the helix sampled at the nodes, every
+//! later one from the sampled helix plus the previous discrete correction scaled like s². A cold
+//! start from the sampled helix far along the ray is never used by the search: near s* it can
+//! converge to another equilibrium (one with two negative eigenvalues, or a stable buckled
+//! shape), which made s* 3–126 % wrong near the τ axis (issue 13). The twist angles start at
 //! the uniform twist `θ_j = (ω/c)·s_j` relative to space-parallel reference frames (zero
 //! reference twist), and θ_{n−1} is the angle to the imposed end director chosen within π of
 //! ω/c: the winding number of the end rotation is the one reached continuously from the
@@ -33,6 +36,37 @@
 //! The κ = 0 plane: the helix is the straight rod; on the τ axis it is untwisted and unloaded,
 //! stable for every s, and `s* = ∞` is returned; with ω ≠ 0 it is the twisted clamped rod.
 //!
+//! # Extensibility
+//! The DER rod is extensible with the penalty stiffness `k_s` ([`DerBoundaryParams::stretch`],
+//! default [`BOUNDARY_STRETCH`] = 10⁸), the continuum is not. The helix's internal force
+//! `|n| = |ω − τ|·√(κ² + τ²)` (∝ s²) strains the rod by `|n|/k_s`, which shifts s* by about
+//! that relative amount; with the physical `k_s = 10⁶` this was ~10⁻⁵ … 5·10⁻⁴, above the
+//! discretization error at n = 200 on many directions, so the error stopped decreasing with n.
+//! Near the κ = 0 plane the end is brought closer to the clamp only by the chord shortening of
+//! the helix, `δ = 1 − |r(1)| ≈ κ̂²/2`: when `|n|/k_s` is not small against δ the penalized rod
+//! stays straight and compressed instead of buckling (s* = ∞ was returned at (8.6e-6, 1, 0),
+//! where the continuum gives the Euler column 2π). [`critical_s`] therefore refuses a
+//! direction with `|n|/k_s > 0.1·δ` at the continuum s* ([`check_extensibility`],
+//! [`MAX_STRAIN_TO_SHORTENING`]) with an error naming both numbers: with the default `k_s` that
+//! is κ̂ ≲ 3·10⁻³ on the τ axis (use the continuum method there, or a larger `stretch`).
+//!
+//! # Resolution
+//! The frames of the helix turn by [`rotation_per_edge`] `φ = s*·√(κ̂² + τ̂² + (ω̂/c)²)/(n − 1)`
+//! radians per edge; the relative discretization error is ≈ 0.1…0.3·φ² (straddling clamps):
+//! 1.4 % at φ = 0.33 (n = 100) but 55 % at φ = 1.36 (n = 25) on (0.175, −0.366, −0.914),
+//! s* ≈ 25.5. Above [`MAX_ROTATION_PER_EDGE`] = 1.5 rad per edge [`critical_s`] returns an error
+//! naming the n needed ([`check_resolution`]).
+//!
+//! # What `est_error` covers
+//! The `est_error` of a [`critical_s`] result is the half-width of the final bracket (root
+//! finding to `tol_rel`) **plus** an empirical discretization bound
+//! `DISCRETIZATION_COEFF·φ²·s*` ([`DISCRETIZATION_COEFF`] = 0.3): it covered the measured
+//! error on every direction of the 2,000-direction half-sphere at n ≥ 50 and the n = 25 case
+//! above, conservatively (typically 3–10× the actual error). [`DerRay::critical_s`] (the ray
+//! alone) reports the bracket only. The measured discretization error (raw and
+//! Richardson-extrapolated, `(4·s*_{2n} − s*_n)/3`) over the half-sphere is the README's DER
+//! table (`examples/der_convergence.rs`).
+//!
 //! ```
 //! use helixreach::boundary::der::{critical_s, DerBoundaryParams};
 //! use helixreach::directions::Direction;
@@ -47,7 +81,7 @@ use crate::error::{require_finite, require_positive, Error, Result};
 use crate::helix::Helix;
 use crate::math::{tol, Real, Vec3};
 use crate::rod::clamp::{clamp_nodes, ClampPlacement, End};
-use crate::rod::params::{twist_ratio, DEFAULT_STRETCH};
+use crate::rod::params::twist_ratio;
 use crate::rod::statics::{self, NewtonParams};
 use crate::rod::{Material, Rod, RodState, Workspace};
 
@@ -55,17 +89,52 @@ use crate::rod::{Material, Rod, RodState, Workspace};
 const STRETCH_START: Real = 1e4;
 /// Growth factor of the stretching stiffness per continuation step.
 const STRETCH_STEP: Real = 10.0;
+/// The first evaluation of a ray (a cold start) is at `min(s, COLD_START_S)`: a nearly straight
+/// rod, where the sampled helix is in Newton's basin of the helical equilibrium.
+const COLD_START_S: Real = 1.0;
 
 /// Newton iterations allowed from the predicted start before falling back.
-const PREDICTED_MAX_ITERS: usize = 5;
+const PREDICTED_MAX_ITERS: usize = 10;
 /// The seeded search starts this fraction below the continuum s*.
 const SEED_BELOW: Real = 0.985;
 /// Growth factor per probe of the seeded search.
 const SEED_GROWTH: Real = 1.02;
+/// A stalled continuation counts as a fold (the branch ends: unstable) only if |μ| at the last
+/// converged point is below this fraction of |μ| at the ray's first point; otherwise it is an
+/// error.
+const FOLD_MU_RATIO: Real = 0.25;
 /// First s probed when bracketing s*.
 const BRACKET_START: Real = 4.0;
 /// Growth factor of s while bracketing.
 const BRACKET_GROWTH: Real = 1.5;
+
+/// Default stretching stiffness `k_s L²/k_b` of the boundary ([`DerBoundaryParams::stretch`]).
+///
+/// The continuum reference is inextensible; the penalty `k_s` shifts s* by `O(|n|/k_s)` where
+/// `|n| ∝ s²` is the helix's internal force (≈ 5·10⁻⁴ relative at s* ≈ 25 with the physical
+/// `k_s = 10⁶` of [`crate::rod::params::DEFAULT_STRETCH`], above the discretization error at
+/// n = 200), and near the κ = 0 plane the helix's chord shortening `δ ≈ κ̂²/2` must exceed the
+/// axial strain `|n|/k_s` for the compressed rod to buckle at all (module docs,
+/// "Extensibility"). 10⁸ keeps the shift below ~10⁻⁶ relative; larger values (10¹⁰ was tried)
+/// reach further into the κ → 0 band but Newton then stalls on the stretching force's
+/// round-off at n = 200 and on large s*.
+pub const BOUNDARY_STRETCH: Real = 1e8;
+
+/// A direction is rejected (error, not a silently wrong s*) when at the continuum s* the axial
+/// strain `|n|/k_s` exceeds this fraction of the helix's chord shortening (module docs).
+pub const MAX_STRAIN_TO_SHORTENING: Real = 0.1;
+
+/// Largest rotation of the frames per edge (radians, [`rotation_per_edge`]) at the continuum s*
+/// for which a DER boundary is computed ([`check_resolution`]); the discretization error there
+/// is tens of percent (55 % at 1.36 rad per edge).
+pub const MAX_ROTATION_PER_EDGE: Real = 1.5;
+
+/// The discretization part of a DER result's `est_error`: `DISCRETIZATION_COEFF·φ²·s*` with φ
+/// the [`rotation_per_edge`] at s*. Measured |s*_n/s*_∞ − 1| on (0.175, −0.366, −0.914):
+/// 0.55 at φ = 1.36, 0.064 at 0.67, 0.014 at 0.33 (≈ 0.13…0.3·φ²), and at most ≈ 0.1·φ² on the
+/// 2,000-direction half-sphere at n ≥ 50: an empirical, conservative bound (it is not a
+/// rigorous one; the README's table has the measured errors).
+pub const DISCRETIZATION_COEFF: Real = 0.3;
 
 pub use super::continuum::CriticalS;
 
@@ -92,14 +161,14 @@ pub struct DerBoundaryParams {
 
 impl Default for DerBoundaryParams {
     /// n = 100, ν = 0.33, tol_rel = 1e-8, s_max = [`tol::S_MAX`], stretch =
-    /// [`DEFAULT_STRETCH`], straddling clamps, continuum seed.
+    /// [`BOUNDARY_STRETCH`], straddling clamps, continuum seed.
     fn default() -> Self {
         DerBoundaryParams {
             n_edges: 100,
             nu: 0.33,
             tol_rel: 1e-8,
             s_max: tol::S_MAX,
-            stretch: DEFAULT_STRETCH,
+            stretch: BOUNDARY_STRETCH,
             clamp: ClampPlacement::Straddle,
             continuum_seed: true,
         }
@@ -145,6 +214,9 @@ pub struct DerRay {
     correction_s: Real,
     has_correction: bool,
     branch_ended: bool,
+    /// |μ| at the first converged point of the ray and at the last one (fold diagnosis).
+    mu_first: Real,
+    mu_last: Real,
 }
 
 /// The outcome of one evaluation along a ray.
@@ -193,6 +265,8 @@ impl DerRay {
             correction_s: 1.0,
             has_correction: false,
             branch_ended: false,
+            mu_first: Real::NAN,
+            mu_last: Real::NAN,
         })
     }
 
@@ -250,67 +324,94 @@ impl DerRay {
     /// minus sampled helix) of the previous evaluation on this ray, which varies smoothly with
     /// s; if that fails (or on the first call) it starts from the sampled helix with a
     /// continuation in the stretching stiffness (Newton's basin shrinks like ē/√k_s: a
-    /// transverse move δ strains an edge by δ²/2ē²).
+    /// transverse move δ strains an edge by δ²/2ē²). The cold start may land on another branch
+    /// far from the first evaluation; [`DerRay::critical_s`] therefore never uses it beyond the
+    /// first, small s of a ray (it continues in s instead).
     pub fn evaluate(&mut self, s: Real) -> Result<RayPoint> {
+        if self.has_correction {
+            match self.evaluate_predicted(s, PREDICTED_MAX_ITERS) {
+                Err(Error::NotConverged { .. }) => {}
+                r => return r,
+            }
+        }
+        self.evaluate_cold(s)
+    }
+
+    /// Newton from the predicted start only (sampled helix + correction of the last converged
+    /// evaluation, scaled like s²), at most [`PREDICTED_MAX_ITERS`] iterations.
+    fn evaluate_predicted(&mut self, s: Real, max_iters: usize) -> Result<RayPoint> {
+        let init = self.initial_state(s)?;
+        let free = self.rod.free_range_clamped();
+        // The discrete correction scales like s² (chord shortfall ∝ (λē)², axial strain ∝
+        // force ∝ s²).
+        let scale = (s / self.correction_s).powi(2);
+        let mut st = init.clone();
+        for k in free.clone() {
+            st.q[k] += scale * self.correction[k];
+        }
+        let not_converged = || Error::NotConverged {
+            what: "DER Newton from the predicted start".into(),
+            iterations: max_iters,
+            residual: Real::NAN,
+        };
+        if !st.update_reference() {
+            return Err(not_converged());
+        }
+        self.rod.material.stretch = self.params.stretch;
+        let quick = NewtonParams {
+            max_iters,
+            ..self.newton
+        };
+        match statics::solve(&self.rod, &mut st, free, &mut self.ws, &quick) {
+            Ok(eq) => Ok(self.finish(s, &init, st, eq.negative, eq.iterations)),
+            Err(Error::NotConverged { .. }) => {
+                self.evaluations += 1;
+                self.newton_iterations += max_iters;
+                Err(not_converged())
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Newton from the sampled helix with a continuation in the stretching stiffness.
+    fn evaluate_cold(&mut self, s: Real) -> Result<RayPoint> {
         let init = self.initial_state(s)?;
         let free = self.rod.free_range_clamped();
         let target = self.params.stretch;
         let mut iterations = 0;
-        let mut found = None;
-        if self.has_correction {
-            // The discrete correction scales like s² (chord shortfall ∝ (λē)², axial strain ∝
-            // force ∝ s²).
-            let scale = (s / self.correction_s).powi(2);
-            let mut st = init.clone();
-            for k in free.clone() {
-                st.q[k] += scale * self.correction[k];
-            }
-            if st.update_reference() {
-                self.rod.material.stretch = target;
-                let quick = NewtonParams {
-                    max_iters: PREDICTED_MAX_ITERS,
-                    ..self.newton
-                };
-                let r = statics::solve(&self.rod, &mut st, free.clone(), &mut self.ws, &quick);
-                match r {
-                    Ok(eq) => {
-                        iterations += eq.iterations;
-                        found = Some((eq, st));
-                    }
-                    Err(_) => iterations += PREDICTED_MAX_ITERS,
+        let mut st = init.clone();
+        let mut ks = target.min(STRETCH_START);
+        let eq = loop {
+            self.rod.material.stretch = ks;
+            let r = statics::solve(&self.rod, &mut st, free.clone(), &mut self.ws, &self.newton);
+            let eq = match r {
+                Ok(eq) => eq,
+                Err(e) => {
+                    self.evaluations += 1;
+                    self.newton_iterations += iterations;
+                    return Err(e);
                 }
+            };
+            iterations += eq.iterations;
+            if ks >= target {
+                break eq;
             }
-        }
-        let (eq, st) = match found {
-            Some(x) => x,
-            None => {
-                let mut st = init.clone();
-                let mut ks = target.min(STRETCH_START);
-                loop {
-                    self.rod.material.stretch = ks;
-                    let r = statics::solve(
-                        &self.rod,
-                        &mut st,
-                        free.clone(),
-                        &mut self.ws,
-                        &self.newton,
-                    );
-                    let eq = match r {
-                        Ok(eq) => eq,
-                        Err(e) => {
-                            self.evaluations += 1;
-                            self.newton_iterations += iterations;
-                            return Err(e);
-                        }
-                    };
-                    iterations += eq.iterations;
-                    if ks >= target {
-                        break (eq, st);
-                    }
-                    ks = (ks * STRETCH_STEP).min(target);
-                }
-            }
+            ks = (ks * STRETCH_STEP).min(target);
         };
+        Ok(self.finish(s, &init, st, eq.negative, iterations))
+    }
+
+    /// Record a converged evaluation (correction for the next prediction, work counters) and
+    /// estimate the smallest-magnitude eigenvalue of its free Hessian.
+    fn finish(
+        &mut self,
+        s: Real,
+        init: &RodState,
+        st: RodState,
+        negative: usize,
+        iterations: usize,
+    ) -> RayPoint {
+        let free = self.rod.free_range_clamped();
         let mu = self
             .ws
             .ldlt
@@ -318,29 +419,37 @@ impl DerRay {
         for (c, (a, b)) in self.correction.iter_mut().zip(st.q.iter().zip(&init.q)) {
             *c = a - b;
         }
+        if !self.has_correction {
+            self.mu_first = mu.abs();
+        }
+        self.mu_last = mu.abs();
         self.has_correction = true;
         self.correction_s = s;
         self.state = Some(st);
         self.evaluations += 1;
         self.newton_iterations += iterations;
-        Ok(RayPoint {
+        RayPoint {
             s,
-            negative: eq.negative,
+            negative,
             mu,
             iterations,
-        })
+        }
     }
 
     /// Stability near s for the root finding: `(s_evaluated, stable, surrogate f, verified)`.
     /// The surrogate is ±|μ| (sign from the inertia).
     ///
-    /// If Newton fails at s (a jump too far for its basin, which is small near the buckling of
-    /// a nearly straight rod), s is approached by continuation from the last converged s:
-    /// steps that fail are halved, steps that succeed grow by 1.5. An unstable intermediate
-    /// point is returned in place of s. If the continuation stalls (step < 10⁻⁶·s), the probe
-    /// counts as unstable but unverified: when the critical mode is symmetric the
-    /// discretization's imperfection turns the bifurcation into a fold, and the helical branch
-    /// of the discrete rod ends there — the rod snaps.
+    /// The equilibrium is followed along the ray by continuation in s, never by a cold start
+    /// far from the last converged point (a cold start near s* may converge to another
+    /// equilibrium, e.g. one with two negative eigenvalues, or a stable buckled shape): the first
+    /// point of a ray is a cold start at `s₀ = min(s, COLD_START_S)` (a nearly straight rod),
+    /// and every later one starts from the prediction of the last converged point. If Newton
+    /// fails at s, s is approached from the last converged point: steps that fail are halved,
+    /// steps that succeed grow by 1.5. An unstable intermediate point is returned in place of s.
+    /// If the continuation stalls (step < 10⁻⁶·s), the probe counts as unstable but unverified:
+    /// when the critical mode is symmetric the discretization's imperfection turns the
+    /// bifurcation into a fold, and the helical branch of the discrete rod ends there — the rod
+    /// snaps.
     fn probe(&mut self, s: Real) -> Result<(Real, bool, Real, bool)> {
         let classify = |pt: &RayPoint| {
             if pt.negative == 0 {
@@ -349,25 +458,44 @@ impl DerRay {
                 (pt.s, false, -pt.mu.abs(), true)
             }
         };
-        match self.evaluate(s) {
-            Ok(pt) => return Ok(classify(&pt)),
-            Err(Error::NotConverged { .. }) => {}
-            Err(e) => return Err(e),
-        }
         if !self.has_correction {
-            // No converged point yet: start the continuation from a small, easy s.
-            let s0 = (0.25 * s).min(1.0);
-            match self.evaluate(s0) {
-                Ok(pt) if pt.negative > 0 => return Ok(classify(&pt)),
+            let s0 = s.min(COLD_START_S);
+            match self.evaluate_cold(s0) {
+                Ok(pt) if pt.negative > 0 || s0 == s => return Ok(classify(&pt)),
                 Ok(_) => {}
                 Err(Error::NotConverged { .. }) => return Ok((s, false, Real::NAN, false)),
                 Err(e) => return Err(e),
             }
         }
+        match self.evaluate_predicted(s, PREDICTED_MAX_ITERS) {
+            Ok(pt) => return Ok(classify(&pt)),
+            Err(Error::NotConverged { .. }) => {}
+            Err(e) => return Err(e),
+        }
         let mut a = self.correction_s;
         let mut step = 0.25 * (s - a);
         loop {
             if step.abs() < 1e-6 * s {
+                // Stalled: a full Newton solve (line search, 30 iterations) from the prediction.
+                match self.evaluate_predicted(s, self.newton.max_iters) {
+                    Ok(pt) => return Ok(classify(&pt)),
+                    Err(Error::NotConverged { .. }) => {}
+                    Err(e) => return Err(e),
+                }
+                // A fold ends the branch only where the smallest eigenvalue has nearly vanished;
+                // anywhere else the stall is a solver failure, reported, never read as "unstable".
+                if self.mu_last > FOLD_MU_RATIO * self.mu_first {
+                    return Err(Error::NotConverged {
+                        what: format!(
+                            "DER continuation along the ray stalled at s = {a} towards {s} with \
+                             the free Hessian far from singular (|mu| = {:.3e}, {:.3e} at the \
+                             ray's start)",
+                            self.mu_last, self.mu_first
+                        ),
+                        iterations: self.newton_iterations,
+                        residual: Real::NAN,
+                    });
+                }
                 return Ok((s, false, Real::NAN, false));
             }
             let t = if (s - a).abs() <= step.abs() {
@@ -375,7 +503,7 @@ impl DerRay {
             } else {
                 a + step
             };
-            match self.evaluate(t) {
+            match self.evaluate_predicted(t, PREDICTED_MAX_ITERS) {
                 Ok(pt) => {
                     if pt.negative > 0 || t == s {
                         return Ok(classify(&pt));
@@ -511,12 +639,72 @@ impl DerRay {
 /// invalid direction (NaN, zero, κ < 0), or a Newton failure.
 pub fn critical_s(dir: &Direction, params: &DerBoundaryParams) -> Result<CriticalS> {
     let mut ray = DerRay::new(dir, params)?;
-    if params.continuum_seed {
-        if let Ok(c) = super::continuum::critical_s(&ray.dir, 1e-6) {
-            if c.s_star.is_finite() && c.s_star < params.s_max {
-                return ray.critical_s_from(SEED_BELOW * c.s_star, SEED_GROWTH);
-            }
-        }
+    let c = super::continuum::critical_s(&ray.dir, 1e-6)?;
+    if c.s_star.is_finite() {
+        check_extensibility(&ray.dir, c.s_star, params.stretch)?;
+        check_resolution(&ray.dir, c.s_star, params.n_edges, ray.c)?;
     }
-    ray.critical_s()
+    let mut r = if params.continuum_seed && c.s_star.is_finite() && c.s_star < params.s_max {
+        ray.critical_s_from(SEED_BELOW * c.s_star, SEED_GROWTH)?
+    } else {
+        ray.critical_s()?
+    };
+    if r.s_star.is_finite() {
+        let per_edge = rotation_per_edge(&ray.dir, r.s_star, params.n_edges, ray.c);
+        r.est_error += DISCRETIZATION_COEFF * per_edge * per_edge * r.s_star;
+    }
+    Ok(r)
+}
+
+/// The rotation of the frames per edge, `s·√(κ̂² + τ̂² + (ω̂/c)²)/(n − 1)` radians (bending,
+/// torsion and the material twist `ω/c` of the helix at distance s, shared by `n − 1` edges).
+pub fn rotation_per_edge(dir: &Direction, s: Real, n_edges: usize, c: Real) -> Real {
+    s * (dir.kappa * dir.kappa + dir.tau * dir.tau + (dir.omega / c) * (dir.omega / c)).sqrt()
+        / (n_edges as Real - 1.0)
+}
+
+/// The resolution guard (module docs): above [`MAX_ROTATION_PER_EDGE`] radians per edge
+/// ([`rotation_per_edge`] at the continuum s*) the discrete rod is no model of the continuum:
+/// an error naming the rotation and the smallest adequate n.
+pub fn check_resolution(dir: &Direction, s_star: Real, n_edges: usize, c: Real) -> Result<()> {
+    let per_edge = rotation_per_edge(dir, s_star, n_edges, c);
+    if per_edge > MAX_ROTATION_PER_EDGE {
+        let need = (per_edge * (n_edges as Real - 1.0) / MAX_ROTATION_PER_EDGE).ceil() as usize + 1;
+        return Err(Error::invalid(
+            "n_edges",
+            n_edges,
+            format!(
+                "too coarse for direction ({}, {}, {}): at the continuum s* = {s_star:.4} the \
+                 frames turn {per_edge:.2} rad per edge (> {MAX_ROTATION_PER_EDGE}); use \
+                 n_edges >= {need}",
+                dir.kappa, dir.tau, dir.omega
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The extensibility guard (module docs): at the continuum s* the helix's internal force
+/// `|n| = |ω − τ|·√(κ² + τ²)` strains the penalized rod by `|n|/k_s`; unless that is at most
+/// [`MAX_STRAIN_TO_SHORTENING`] of the chord shortening `δ = 1 − |r(1)|`, the DER rod does not
+/// model the inextensible one (near the κ = 0 plane it stays straight and compressed instead of
+/// buckling) and the direction is an error naming both numbers.
+pub fn check_extensibility(dir: &Direction, s_star: Real, stretch: Real) -> Result<()> {
+    let [k, t, w] = dir.at(s_star);
+    let force = (w - t).abs() * (k * k + t * t).sqrt();
+    let shortening = 1.0 - Helix::new(k, t, w)?.position(1.0).norm();
+    let strain = force / stretch;
+    if strain > MAX_STRAIN_TO_SHORTENING * shortening {
+        return Err(Error::invalid(
+            "direction",
+            format!("({}, {}, {})", dir.kappa, dir.tau, dir.omega),
+            format!(
+                "too close to the kappa = 0 plane for DER statics with stretch {stretch:e}: at the \
+                 continuum s* = {s_star} the axial strain |n|/k_s = {strain:.3e} is not small \
+                 against the helix's chord shortening {shortening:.3e} (the penalized rod would \
+                 stay straight and compressed); use the continuum method or a larger stretch"
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -9,7 +9,8 @@
 //! unstable equilibria too (which is what a stability test along a branch needs).
 //!
 //! Convergence: the Newton step satisfies `‖Δ‖∞ ≤ step_tol`, or the residual is at the
-//! round-off floor `‖g_f‖∞ ≤ rel_residual_tol·(k_b + ‖g‖∞)` (near a critical point the Hessian
+//! round-off floor `‖g_f‖∞ ≤ max(rel_residual_tol·(k_b + ‖g‖∞), 16·k_s·ε)` (the second term is
+//! the round-off of a stiff stretching force; near a critical point the Hessian
 //! is nearly singular and the step along the critical mode is dominated by round-off, so the
 //! residual criterion is the one that ends the iteration there; an iterate within 10³× that
 //! tolerance is accepted when the next step fails to reduce the residual).
@@ -29,6 +30,9 @@ use std::ops::Range;
 
 /// The residual floor accepted when Newton stalls, as a multiple of `rel_residual_tol`.
 const FLOOR_FACTOR: Real = 1e3;
+/// Round-off of the stretching force in units of `k_s·ε` counted into the residual floor (a
+/// node's gradient sums the forces of two edges, each with a few roundings).
+const STRETCH_ROUNDOFF: Real = 16.0;
 
 /// Newton controls.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,7 +110,11 @@ pub fn solve(
         for it in 0..params.max_iters {
             let e = energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
             let res = inf_norm(&ws.grad[free.clone()]);
-            let scale = rod.material.bend + inf_norm(&ws.grad);
+            // The stretching force k_s(ℓ/ē − 1) carries a round-off of ~k_s·ε per edge (ℓ is
+            // known to ε relative): with a stiff penalty that, not rel_residual_tol, is the floor.
+            let scale = (rod.material.bend + inf_norm(&ws.grad)).max(
+                STRETCH_ROUNDOFF * rod.material.stretch * Real::EPSILON / params.rel_residual_tol,
+            );
             ws.ldlt
                 .factor(&ws.hess, free.clone())
                 .map_err(|er| singular(er, it))?;
