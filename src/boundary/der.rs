@@ -185,6 +185,7 @@ impl DerBoundaryParams {
                 "the DER boundary needs at least 4 edges",
             ));
         }
+        crate::limits::check_size("n_edges", self.n_edges, crate::limits::MAX_N_EDGES)?;
         twist_ratio(self.nu)?;
         require_positive("tol_rel", self.tol_rel)?;
         if self.tol_rel >= 0.5 {

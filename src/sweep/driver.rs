@@ -16,12 +16,12 @@
 //!   run is refused unless `resume` (continue it) or `force` (replace it, once complete) is set.
 //!   Replacing an output that was made with *different* settings always needs `force`.
 //! - **Every output records its settings.** Its first line is a
-//!   [`SettingsRecord`](super::record::SettingsRecord) (`# helixreach-settings {json}`): tool
+//!   [`SettingsRecord`] (`# helixreach-settings {json}`): tool
 //!   version, sweep name, the caller's settings, columns, size and digest of the whole item set,
 //!   shard. `resume` continues `OUT.partial` (else `OUT`) only when its record equals the
 //!   current one, listing every difference otherwise; a row whose key is not an item of the run,
 //!   or a duplicate key, is refused (never dropped).
-//! - **One writer per output.** An exclusive [`OutputLock`](crate::io::OutputLock) is held for
+//! - **One writer per output.** An exclusive [`OutputLock`] is held for
 //!   the whole run; a second writer fails at once with a clear error. Temp files of killed
 //!   runs (`OUT.<pid>.tmp`) are removed.
 //! - **Outputs are checked before computing**: the lock file is created beside the output, so a
