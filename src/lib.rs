@@ -23,6 +23,7 @@
 //! | [`robot`] | URDF robots: compiled kinematics, IK, collision |
 //! | [`planning`] | rig files, pose paths, ladder graph, trajectories |
 //! | [`sweep`] | reachability over direction sets (parallel, resumable) |
+//! | [`layout`] | rig layout: clamp placements that together cover a direction set |
 //! | [`plot`] | figures from saved records |
 //!
 //! Dependencies point one way: `planning` → {`helix`, `robot`, `boundary`}; `boundary` → {`rod`,
@@ -35,6 +36,7 @@ pub mod error;
 pub mod helix;
 pub mod io;
 pub mod limits;
+pub mod layout;
 pub mod math;
 pub mod planning;
 pub mod plot;

@@ -26,4 +26,5 @@ pub mod ladder;
 pub mod planner;
 pub mod pose_path;
 pub mod rig;
+pub mod rig_write;
 pub mod trajectory;

@@ -12,6 +12,9 @@
 //! | speed versus error of boundary methods (log-log) | [`speed_error::render`] | [`SpeedErrorRow`] |
 //! | joint and motor angles versus s, with joint limits | [`trajectory::render`] | [`TrajectoryRow`] (+ [`JointLimit`]) |
 //! | robot, rod and scene along a trajectory: strip, GIF (poses the robot model; see its docs) | [`render::render_trajectory`] | trajectory CSV + rig |
+//! | rig layout: coverage heat map over the bench | [`layout_heatmap::render`] | [`layout_heatmap::Heatmap`] |
+//! | rig layout: directions by placement | [`layout_directions::render`] | directions + placement |
+//! | rig layout: coverage versus K | [`layout_coverage::render`] | [`layout_coverage::Point`] |
 //!
 //! The output format follows the file extension (`.png` or `.svg`, case-insensitive); anything
 //! else is an [`Error::InvalidParameter`] naming the path. Files are written atomically (temp file
@@ -35,6 +38,9 @@
 pub mod boundary3d;
 pub mod direction_map;
 pub mod error_vs_s;
+pub mod layout_coverage;
+pub mod layout_directions;
+pub mod layout_heatmap;
 pub mod records;
 pub mod render;
 pub mod section;

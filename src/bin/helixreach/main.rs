@@ -36,6 +36,8 @@ enum Command {
     Plan(commands::plan::Args),
     /// Reachability sweep of a rig over a direction set.
     Reach(commands::reach::Args),
+    /// Clamp placements that together cover a direction set (rig layout).
+    Layout(commands::layout::Args),
     /// Join shard outputs of `reach` (or `boundary`).
     Merge(commands::merge::Args),
     /// Regenerate a figure from saved CSVs.
@@ -72,6 +74,7 @@ fn main() -> ExitCode {
         Command::Robot(a) => commands::robot::run(a),
         Command::Plan(a) => commands::plan::run(a),
         Command::Reach(a) => commands::reach::run(a),
+        Command::Layout(a) => commands::layout::run(a),
         Command::Merge(a) => commands::merge::run(a),
         Command::Plot(a) => commands::plot::run(a),
         Command::Render(a) => commands::render::run(a),

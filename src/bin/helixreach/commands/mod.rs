@@ -6,6 +6,7 @@ pub mod disturbances;
 pub mod fk;
 pub mod helix;
 pub mod ik;
+pub mod layout;
 pub mod merge;
 pub mod plan;
 pub mod plot;

@@ -1,0 +1,494 @@
+//! Rig layout (DESIGN.md §8): where to put the clamp so that the robot can test a whole
+//! direction set, and which directions to run from each placement.
+//!
+//! | module | holds |
+//! |---|---|
+//! | [`candidates`] | the grid of candidate clamp poses over a bench region, tilted clamp axes |
+//! | [`precheck`] | conservative geometric checks that rule rays out before planning |
+//! | [`evaluate`] | the placement × direction sweep (full planner, shared work, resumable) |
+//! | [`set_cover`] | maximum coverage with K placements: greedy, exact branch and bound |
+//! | [`report`] | the output files: candidates, placements, assignment, coverage, rigs, figures |
+//!
+//! # Workflow ([`run`])
+//! 1. Candidates: the grid over [`LayoutOptions::region`] (plus, optionally, reference clamp
+//!    positions such as the seed's hand-chosen ones, evaluated but never chosen).
+//! 2. `rays.csv`: every candidate × direction, decided by the full planner with the rig's
+//!    azimuths and roll mode, or by a conservative cheap check ([`evaluate`]).
+//! 3. Coverage sets per candidate; for every k ≤ K the greedy and the exact maximum coverage
+//!    ([`set_cover`]); the K placements are the exact optimum when it is proven, else greedy's.
+//! 4. Every direction is assigned to the first chosen placement (in order of decreasing marginal
+//!    gain) that tests it, with that placement's azimuth.
+//! 5. One rig TOML per placement (loadable by `Rig::load`, same answers as `reach`), CSV records
+//!    and figures ([`report`]).
+//!
+//! A region where no candidate covers anything is a valid answer (coverage 0, reported), not an
+//! error.
+
+pub mod candidates;
+pub mod evaluate;
+pub mod precheck;
+pub mod report;
+pub mod set_cover;
+
+use crate::directions::Direction;
+use crate::error::{Error, Result};
+use crate::math::Real;
+use crate::planning::rig::{Rig, RollMode};
+use crate::sweep::driver::{Shard, SweepOptions};
+use crate::sweep::reach::BoundaryTable;
+use candidates::{grid, Candidate, Region};
+use evaluate::{read_rays, RayResult, Sweep, RAYS_HEADER};
+use set_cover::{exact, greedy, BitSet, Cover};
+use std::path::{Path, PathBuf};
+
+/// Largest number of placements K.
+pub const MAX_PLACEMENTS: usize = 20;
+
+/// Default search budget of the exact cover (branch-and-bound nodes per k).
+pub const EXACT_NODE_LIMIT: u64 = 20_000_000;
+
+/// Half-width (m) of the default region around the rig's clamp (x and y).
+pub const DEFAULT_HALF_WIDTH: Real = 0.15;
+
+/// Default grid spacing (m).
+pub const DEFAULT_SPACING: Real = 0.05;
+
+/// What to search.
+#[derive(Debug, Clone)]
+pub struct LayoutOptions {
+    /// Bench region of the candidate grid (base frame, m).
+    pub region: Region,
+    /// Grid spacing (m).
+    pub spacing: Real,
+    /// Clamp-axis tilts (degrees; 0 = the rig's).
+    pub tilts_deg: Vec<Real>,
+    /// Headings per non-zero tilt.
+    pub headings: usize,
+    /// Number of placements K (1 ..= [`MAX_PLACEMENTS`]).
+    pub placements: usize,
+    /// Overrides the rig's planner margin past the boundary.
+    pub margin: Option<Real>,
+    /// Roll mode (default: the rig's).
+    pub roll: Option<RollMode>,
+    /// Azimuths per ray (default: the rig's choices).
+    pub azimuths: Option<Vec<Real>>,
+    /// Node budget of the exact cover per k.
+    pub exact_node_limit: u64,
+    /// Reference clamp positions (named), evaluated over all directions but never chosen.
+    pub references: Vec<Reference>,
+}
+
+/// A reference clamp position: e.g. where the seed ran some of its directions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reference {
+    /// Clamp origin (m, base frame), rig's clamp orientation.
+    pub origin: [Real; 3],
+    /// Indices of the directions the reference ran at this position.
+    pub own: Vec<usize>,
+}
+
+impl LayoutOptions {
+    /// Defaults for `rig`: ±[`DEFAULT_HALF_WIDTH`] around its clamp at its height,
+    /// [`DEFAULT_SPACING`], upright, K = 3.
+    pub fn around(rig: &Rig) -> LayoutOptions {
+        LayoutOptions {
+            region: Region::around(&rig.clamp.translation.vector, DEFAULT_HALF_WIDTH),
+            spacing: DEFAULT_SPACING,
+            tilts_deg: vec![0.0],
+            headings: 4,
+            placements: 3,
+            margin: None,
+            roll: None,
+            azimuths: None,
+            exact_node_limit: EXACT_NODE_LIMIT,
+            references: vec![],
+        }
+    }
+}
+
+/// How to run the sweep.
+#[derive(Debug, Clone, Default)]
+pub struct RunControl {
+    /// Keep finished rays of an existing `rays.csv` (same settings only).
+    pub resume: bool,
+    /// Only this shard of the (candidate, direction) items; no summary outputs.
+    pub shard: Option<Shard>,
+    /// Progress bar on stderr.
+    pub progress: bool,
+}
+
+/// Coverage of the best k placements.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoverageAtK {
+    /// k.
+    pub k: usize,
+    /// Greedy.
+    pub greedy: Cover,
+    /// Exact (branch and bound).
+    pub exact: Cover,
+}
+
+/// One chosen placement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Placement {
+    /// Candidate index.
+    pub candidate: usize,
+    /// The pose.
+    pub pose: Candidate,
+    /// Directions it tests.
+    pub covered: usize,
+    /// Directions it adds to the earlier placements.
+    pub new: usize,
+    /// Union with the earlier placements.
+    pub cumulative: usize,
+    /// The rig file written for it.
+    pub rig_file: PathBuf,
+}
+
+/// The seed comparison: coverage of reference positions next to layout's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceCoverage {
+    /// Directions testable at the reference position they were run at.
+    pub own: usize,
+    /// Directions assigned to some reference position.
+    pub own_total: usize,
+    /// Directions testable at any reference position.
+    pub union: usize,
+    /// Number of distinct reference positions.
+    pub positions: usize,
+}
+
+/// What [`run`] found.
+#[derive(Debug, Clone)]
+pub struct LayoutReport {
+    /// Candidate poses (grid, then references).
+    pub candidates: Vec<Candidate>,
+    /// How many leading candidates are the grid (eligible for the cover).
+    pub n_grid: usize,
+    /// Directions.
+    pub n_dirs: usize,
+    /// Directions covered per candidate.
+    pub covered: Vec<usize>,
+    /// Coverage for k = 1 ..= K.
+    pub by_k: Vec<CoverageAtK>,
+    /// The K placements, in order of decreasing marginal gain.
+    pub placements: Vec<Placement>,
+    /// Rays decided by each means: (`decided_by`, count).
+    pub decided: Vec<(String, usize)>,
+    /// Reference coverage (when references were given).
+    pub reference: Option<ReferenceCoverage>,
+    /// Per direction: (placement rank 0-based, its ray) or `None` when no placement tests it.
+    pub assignment: Vec<Option<(usize, RayResult)>>,
+}
+
+impl LayoutReport {
+    /// Fraction of rays decided without the per-ray planner (cheap checks + once-per-placement
+    /// start rung).
+    pub fn cheap_fraction(&self) -> Real {
+        let total: usize = self.decided.iter().map(|(_, n)| n).sum();
+        let cheap: usize = self
+            .decided
+            .iter()
+            .filter(|(k, _)| k != "planner")
+            .map(|(_, n)| n)
+            .sum();
+        cheap as Real / total.max(1) as Real
+    }
+}
+
+/// Read reference clamp positions from a seed `trajectories.csv`
+/// (`dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z`), matched to `dirs` (to 1e-6 after
+/// normalization). Every listed direction must be among `dirs`.
+pub fn read_references(path: &Path, dirs: &[Direction]) -> Result<Vec<Reference>> {
+    let mut table = crate::io::CsvInput::open(path)?;
+    let hint = "header must contain dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z";
+    let names = [
+        "dir_kappa",
+        "dir_tau",
+        "dir_omega",
+        "clamp_x",
+        "clamp_y",
+        "clamp_z",
+    ];
+    let mut cols = [0usize; 6];
+    for (k, n) in names.iter().enumerate() {
+        cols[k] = table.column(n, hint)?;
+    }
+    let mut refs: Vec<Reference> = Vec::new();
+    for (k, rec) in table.reader.records().enumerate() {
+        let line = k + 2;
+        let bad = |field: &str, reason: String| crate::io::bad_line(path, line, field, reason);
+        let rec = rec.map_err(|e| bad("record", e.to_string()))?;
+        let mut v = [0.0; 6];
+        for i in 0..6 {
+            v[i] = crate::io::parse_field(path, line, &rec, cols[i], names[i])?;
+        }
+        let d = Direction::new(v[0], v[1], v[2]).map_err(|e| bad("direction", e.to_string()))?;
+        let idx = dirs
+            .iter()
+            .position(|x| {
+                (x.kappa - d.kappa).abs() < 1e-6
+                    && (x.tau - d.tau).abs() < 1e-6
+                    && (x.omega - d.omega).abs() < 1e-6
+            })
+            .ok_or_else(|| bad("direction", "not in the layout's direction set".into()))?;
+        let origin = [v[3], v[4], v[5]];
+        match refs.iter_mut().find(|r| r.origin == origin) {
+            Some(r) => r.own.push(idx),
+            None => refs.push(Reference {
+                origin,
+                own: vec![idx],
+            }),
+        }
+    }
+    Ok(refs)
+}
+
+fn settings_json(
+    rig: &Rig,
+    dirs: &[Direction],
+    cands: &[Candidate],
+    roll: RollMode,
+    azimuths: &[Real],
+    table: Option<&BoundaryTable>,
+) -> String {
+    let fmt = crate::sweep::reach::fmt_real;
+    let dir_text: Vec<String> = dirs
+        .iter()
+        .map(|d| format!("{},{},{}", fmt(d.kappa), fmt(d.tau), fmt(d.omega)))
+        .collect();
+    let cand_text: Vec<String> = cands
+        .iter()
+        .map(|c| {
+            format!(
+                "{},{},{},{},{}",
+                fmt(c.origin[0]),
+                fmt(c.origin[1]),
+                fmt(c.origin[2]),
+                fmt(c.tilt),
+                fmt(c.heading)
+            )
+        })
+        .collect();
+    let v = serde_json::json!({
+        "rig": rig.to_toml().unwrap_or_default(),
+        "roll": roll.as_str(),
+        "azimuths": azimuths,
+        "boundary": if table.is_some() { "file" } else { "continuum" },
+        "directions": dir_text,
+        "candidates": cand_text,
+    });
+    serde_json::to_string_pretty(&v).unwrap_or_default()
+}
+
+/// Run the layout (see the module docs) writing into `out_dir`. Returns `None` for a shard run
+/// (only `rays.csv` is written; merge the shards with `helixreach merge --key-columns 4` into
+/// one directory's `rays.csv`, then run again with `resume` to get the summary).
+pub fn run(
+    rig: &Rig,
+    dirs: &[Direction],
+    table: Option<&BoundaryTable>,
+    opts: &LayoutOptions,
+    control: &RunControl,
+    out_dir: &Path,
+) -> Result<Option<LayoutReport>> {
+    if dirs.is_empty() {
+        return Err(Error::invalid(
+            "directions",
+            0,
+            "the direction set must not be empty",
+        ));
+    }
+    if opts.placements == 0 || opts.placements > MAX_PLACEMENTS {
+        return Err(Error::invalid(
+            "placements",
+            opts.placements,
+            format!("must be in 1..={MAX_PLACEMENTS}"),
+        ));
+    }
+    let mut rig = rig.clone();
+    if let Some(m) = opts.margin {
+        if !(m.is_finite() && m > 0.0 && m <= 1.0) {
+            return Err(Error::invalid(
+                "margin",
+                m,
+                "must lie in (0, 1]: the rod must be driven past the boundary to be seen to snap",
+            ));
+        }
+        rig.planner.margin = m;
+    }
+    let roll = opts.roll.unwrap_or(rig.roll);
+    let azimuths = opts
+        .azimuths
+        .clone()
+        .unwrap_or_else(|| rig.azimuths.clone());
+    for a in &azimuths {
+        crate::error::require_finite("azimuths", *a)?;
+    }
+    let mut cands = grid(&opts.region, opts.spacing, &opts.tilts_deg, opts.headings)?;
+    let n_grid = cands.len();
+    for r in &opts.references {
+        cands.push(Candidate {
+            origin: r.origin,
+            tilt: 0.0,
+            heading: 0.0,
+        });
+    }
+
+    let rays_path = out_dir.join("rays.csv");
+    let settings_path = out_dir.join("settings.json");
+    let settings = settings_json(&rig, dirs, &cands, roll, &azimuths, table);
+    if rays_path.exists() {
+        if !control.resume {
+            return Err(Error::File {
+                path: rays_path,
+                reason: "exists: pass --resume to continue it, or choose another --out".into(),
+            });
+        }
+        match std::fs::read_to_string(&settings_path) {
+            Ok(old) if old == settings => {}
+            Ok(_) => {
+                return Err(Error::File {
+                    path: settings_path,
+                    reason: "cannot resume: the rig, directions, candidates, roll mode or \
+                             azimuths differ from this run's"
+                        .into(),
+                })
+            }
+            Err(e) => {
+                return Err(Error::File {
+                    path: settings_path,
+                    reason: format!("cannot resume without the settings record: {e}"),
+                })
+            }
+        }
+    }
+    crate::io::write_atomic(&settings_path, settings.as_bytes())?;
+
+    let sweep = Sweep::new(&rig, &cands, dirs, table, roll, azimuths)?;
+    let mut so = SweepOptions::new(&rays_path, &RAYS_HEADER, 4);
+    so.resume = control.resume;
+    so.shard = control.shard;
+    so.progress = control.progress;
+    let summary = sweep.run(&so)?;
+    eprintln!(
+        "layout: {} rays ({} candidates × {} directions; {} computed, {} resumed) -> {}",
+        summary.total,
+        cands.len(),
+        dirs.len(),
+        summary.computed,
+        summary.resumed,
+        rays_path.display()
+    );
+    if control.shard.is_some() {
+        return Ok(None);
+    }
+
+    let rays = read_rays(&rays_path, cands.len(), dirs)?;
+    let report = summarize(&rig, dirs, cands.clone(), n_grid, &rays, opts)?;
+    report::write_all(&rig, dirs, &report, &rays, sweep.bound(), out_dir)?;
+    Ok(Some(report))
+}
+
+/// The coverage sets, covers, placements and assignment from the finished rays.
+fn summarize(
+    _rig: &Rig,
+    dirs: &[Direction],
+    cands: Vec<Candidate>,
+    n_grid: usize,
+    rays: &[RayResult],
+    opts: &LayoutOptions,
+) -> Result<LayoutReport> {
+    let nd = dirs.len();
+    let mut sets: Vec<BitSet> = vec![BitSet::new(nd); cands.len()];
+    let mut decided: Vec<(String, usize)> = Vec::new();
+    for r in rays {
+        if r.testable() {
+            sets[r.candidate].insert(r.dir);
+        }
+        match decided.iter_mut().find(|(k, _)| *k == r.decided_by) {
+            Some((_, n)) => *n += 1,
+            None => decided.push((r.decided_by.clone(), 1)),
+        }
+    }
+    let covered: Vec<usize> = sets.iter().map(BitSet::count).collect();
+    let grid_sets = &sets[..n_grid];
+    let mut by_k = Vec::new();
+    for k in 1..=opts.placements {
+        let g = greedy(grid_sets, k);
+        let e = exact(grid_sets, k, opts.exact_node_limit);
+        by_k.push(CoverageAtK {
+            k,
+            greedy: g,
+            exact: e,
+        });
+    }
+    let last = by_k.last().expect("K >= 1");
+    let chosen = if last.exact.proven && last.exact.covered >= last.greedy.covered {
+        last.exact.chosen.clone()
+    } else {
+        last.greedy.chosen.clone()
+    };
+    // Order the chosen placements by decreasing marginal gain (greedy within the choice).
+    let sub: Vec<BitSet> = chosen.iter().map(|&i| sets[i].clone()).collect();
+    let order = greedy(&sub, sub.len()).chosen;
+    let mut cum = BitSet::new(nd);
+    let mut placements = Vec::new();
+    for (rank, &j) in order.iter().enumerate() {
+        let c = chosen[j];
+        let new = cum.gain(&sets[c]);
+        cum.union_with(&sets[c]);
+        placements.push(Placement {
+            candidate: c,
+            pose: cands[c],
+            covered: covered[c],
+            new,
+            cumulative: cum.count(),
+            rig_file: PathBuf::from(format!("placement_{}.toml", rank + 1)),
+        });
+    }
+    let at = |c: usize, d: usize| &rays[c * nd + d];
+    let assignment = (0..nd)
+        .map(|d| {
+            placements
+                .iter()
+                .enumerate()
+                .find(|(_, p)| sets[p.candidate].contains(d))
+                .map(|(rank, p)| (rank, at(p.candidate, d).clone()))
+        })
+        .collect();
+    let reference = if opts.references.is_empty() {
+        None
+    } else {
+        let mut own = BitSet::new(nd);
+        let mut own_total = BitSet::new(nd);
+        let mut union = BitSet::new(nd);
+        for (i, r) in opts.references.iter().enumerate() {
+            let c = n_grid + i;
+            union.union_with(&sets[c]);
+            for &d in &r.own {
+                own_total.insert(d);
+                if sets[c].contains(d) {
+                    own.insert(d);
+                }
+            }
+        }
+        Some(ReferenceCoverage {
+            own: own.count(),
+            own_total: own_total.count(),
+            union: union.count(),
+            positions: opts.references.len(),
+        })
+    };
+    Ok(LayoutReport {
+        candidates: cands,
+        n_grid,
+        n_dirs: nd,
+        covered,
+        by_k,
+        placements,
+        decided,
+        reference,
+        assignment,
+    })
+}

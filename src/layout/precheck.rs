@@ -1,0 +1,113 @@
+//! Conservative cheap checks that rule out rays before the full planner runs.
+//!
+//! A check here may only say "not testable" when **no** feasible motion can exist, never when the
+//! planner could find one. Numerical IK failure at a waypoint is *not* such a proof (a local
+//! solver can miss a solution), so it is not used; the checks are geometric bounds:
+//!
+//! # Reach bound
+//! Let `p₀` be the origin of the first actuated joint's frame (fixed in the base frame: only fixed
+//! links precede it) and `oᵢ` the constant offsets (`origin.pos`) of the link steps after it on
+//! the path to the tip link. The tip position is `p₀ + Σ Rᵢ·oᵢ` with rotations `Rᵢ`, so for every
+//! configuration `|p_tip − p₀| ≤ Σ |oᵢ| =: R` (triangle inequality). The rod-end tool frame is
+//! the tip times the rig's fixed `tool` transform `t`, so `|p_tool − p₀| ≤ R + |t|`. A ray one of
+//! whose pose-path waypoints has its rod end farther than `R + |t|` (plus 1 µm) from `p₀` cannot
+//! be driven past that waypoint by any configuration: it is not testable.
+//!
+//! For a whole placement: every rod end lies within `L` (the rod length) of the clamp, so when the
+//! straight rod's end is already out of reach, no ray starts ([`ReachBound::straight_out_of_reach`]).
+//!
+//! # No boundary
+//! A ray whose boundary s* is infinite (stable up to the sweep's s_max) is never `testable` by
+//! the planner's definition (nothing to see snap); it is decided without planning.
+
+use crate::directions::Direction;
+use crate::error::Result;
+use crate::math::{Real, Vec3};
+use crate::planning::pose_path::{pose_path, Ray, Spacing};
+use crate::planning::rig::Rig;
+use crate::robot::kinematics::LinkMotion;
+use crate::robot::RobotModel;
+
+/// Slack added to the reach radius (m), far above rounding of the sums.
+pub const REACH_SLACK: Real = 1e-6;
+
+/// The reach ball of a robot + tool (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReachBound {
+    /// Centre `p₀` (base frame).
+    pub centre: Vec3,
+    /// Radius `R + |t|` plus [`REACH_SLACK`] (m).
+    pub radius: Real,
+}
+
+impl ReachBound {
+    /// The bound of `model` (its tip link) and the rig's tool transform.
+    pub fn of(model: &RobotModel, rig: &Rig) -> ReachBound {
+        let links = model.chain().links();
+        // Path from the tip up to the root.
+        let mut path = Vec::new();
+        let mut i = Some(model.tip_index());
+        while let Some(k) = i {
+            path.push(k);
+            i = links[k].parent;
+        }
+        path.reverse();
+        let first = path
+            .iter()
+            .position(|&k| matches!(links[k].motion, LinkMotion::Revolute { .. }));
+        // Position of every link frame origin before (and at) the first actuated joint is fixed.
+        let mut centre = Vec3::zeros();
+        let mut rot = crate::math::Mat3::identity();
+        let mut radius = 0.0;
+        for (n, &k) in path.iter().enumerate() {
+            let o = &links[k].origin;
+            match first {
+                Some(f) if n > f => radius += o.pos.norm(),
+                _ => {
+                    centre += rot * o.pos;
+                    rot *= o.rot;
+                }
+            }
+        }
+        ReachBound {
+            centre,
+            radius: radius + rig.tool.translation.vector.norm() + REACH_SLACK,
+        }
+    }
+
+    /// Whether a rod-end position is provably out of reach.
+    pub fn out_of_reach(&self, p: &Vec3) -> bool {
+        (p - self.centre).norm() > self.radius
+    }
+
+    /// Whether the straight rod of `rig` ends out of reach (then no ray of the placement starts).
+    pub fn straight_out_of_reach(&self, rig: &Rig) -> bool {
+        self.out_of_reach(&rig.straight_tool_pose().translation.vector)
+    }
+
+    /// Whether every azimuth of the ray `dir` to `s_end` on `rig` has a waypoint (of the
+    /// planner's own pose path) out of reach: then the ray is not testable.
+    pub fn ray_out_of_reach(
+        &self,
+        rig: &Rig,
+        dir: &Direction,
+        s_end: Real,
+        azimuths: &[Real],
+    ) -> Result<bool> {
+        let sp = Spacing::of(rig);
+        for &a in azimuths {
+            let ray = Ray {
+                dir: [dir.kappa, dir.tau, dir.omega],
+                azimuth: a,
+            };
+            let wps = pose_path(rig, &ray, s_end, &sp)?;
+            if !wps
+                .iter()
+                .any(|w| self.out_of_reach(&w.tool.translation.vector))
+            {
+                return Ok(false);
+            }
+        }
+        Ok(!azimuths.is_empty())
+    }
+}
