@@ -111,6 +111,8 @@ impl LayoutOptions {
 pub struct RunControl {
     /// Keep finished rays of an existing `rays.csv` (same settings only).
     pub resume: bool,
+    /// Replace an existing `rays.csv` (once the new one is complete).
+    pub force: bool,
     /// Only this shard of the (candidate, direction) items; no summary outputs.
     pub shard: Option<Shard>,
     /// Progress bar on stderr.
@@ -244,41 +246,65 @@ pub fn read_references(path: &Path, dirs: &[Direction]) -> Result<Vec<Reference>
     Ok(refs)
 }
 
-fn settings_json(
+/// The settings recorded in `rays.csv` (compared by the sweep driver on resume): digests of the
+/// rig (without name, description and location), the directions and the candidate poses, the
+/// roll mode, the azimuths and where s* comes from.
+fn settings(
+    so: SweepOptions,
     rig: &Rig,
     dirs: &[Direction],
     cands: &[Candidate],
     roll: RollMode,
     azimuths: &[Real],
     table: Option<&BoundaryTable>,
-) -> String {
-    let fmt = crate::sweep::reach::fmt_real;
-    let dir_text: Vec<String> = dirs
+) -> SweepOptions {
+    use crate::sweep::reach::fmt_real as f;
+    use crate::sweep::record::fnv1a_hex;
+    let mut r = rig.clone();
+    r.name.clear();
+    r.description.clear();
+    r.source.clear();
+    r.robot.dir = PathBuf::new();
+    let dir_text: String = dirs
         .iter()
-        .map(|d| format!("{},{},{}", fmt(d.kappa), fmt(d.tau), fmt(d.omega)))
+        .map(|d| format!("{},{},{};", f(d.kappa), f(d.tau), f(d.omega)))
         .collect();
-    let cand_text: Vec<String> = cands
+    let cand_text: String = cands
         .iter()
         .map(|c| {
+            let o = c.origin;
             format!(
-                "{},{},{},{},{}",
-                fmt(c.origin[0]),
-                fmt(c.origin[1]),
-                fmt(c.origin[2]),
-                fmt(c.tilt),
-                fmt(c.heading)
+                "{},{},{},{},{};",
+                f(o[0]),
+                f(o[1]),
+                f(o[2]),
+                f(c.tilt),
+                f(c.heading)
             )
         })
         .collect();
-    let v = serde_json::json!({
-        "rig": rig.to_toml().unwrap_or_default(),
-        "roll": roll.as_str(),
-        "azimuths": azimuths,
-        "boundary": if table.is_some() { "file" } else { "continuum" },
-        "directions": dir_text,
-        "candidates": cand_text,
-    });
-    serde_json::to_string_pretty(&v).unwrap_or_default()
+    let az: Vec<String> = azimuths.iter().map(|&a| f(a)).collect();
+    so.sweep("layout")
+        .setting("rig", rig.name.as_str())
+        .setting("rig_digest", fnv1a_hex(format!("{r:?}").as_bytes()))
+        .setting("roll_mode", roll.as_str())
+        .setting("azimuths", az.join(" "))
+        .setting("margin", f(rig.planner.margin))
+        .setting(
+            "directions",
+            format!("{} {}", dirs.len(), fnv1a_hex(dir_text.as_bytes())),
+        )
+        .setting(
+            "candidates",
+            format!("{} {}", cands.len(), fnv1a_hex(cand_text.as_bytes())),
+        )
+        .setting(
+            "boundary",
+            match table {
+                Some(t) => format!("table {}", t.digest()),
+                None => format!("continuum tol={:e}", crate::math::tol::S_STAR_REL),
+            },
+        )
 }
 
 /// Run the layout (see the module docs) writing into `out_dir`. Returns `None` for a shard run
@@ -336,40 +362,13 @@ pub fn run(
     }
 
     let rays_path = out_dir.join("rays.csv");
-    let settings_path = out_dir.join("settings.json");
-    let settings = settings_json(&rig, dirs, &cands, roll, &azimuths, table);
-    if rays_path.exists() {
-        if !control.resume {
-            return Err(Error::File {
-                path: rays_path,
-                reason: "exists: pass --resume to continue it, or choose another --out".into(),
-            });
-        }
-        match std::fs::read_to_string(&settings_path) {
-            Ok(old) if old == settings => {}
-            Ok(_) => {
-                return Err(Error::File {
-                    path: settings_path,
-                    reason: "cannot resume: the rig, directions, candidates, roll mode or \
-                             azimuths differ from this run's"
-                        .into(),
-                })
-            }
-            Err(e) => {
-                return Err(Error::File {
-                    path: settings_path,
-                    reason: format!("cannot resume without the settings record: {e}"),
-                })
-            }
-        }
-    }
-    crate::io::write_atomic(&settings_path, settings.as_bytes())?;
-
-    let sweep = Sweep::new(&rig, &cands, dirs, table, roll, azimuths)?;
+    let sweep = Sweep::new(&rig, &cands, dirs, table, roll, azimuths.clone())?;
     let mut so = SweepOptions::new(&rays_path, &RAYS_HEADER, 4);
     so.resume = control.resume;
+    so.force = control.force;
     so.shard = control.shard;
     so.progress = control.progress;
+    let so = settings(so, &rig, dirs, &cands, roll, &azimuths, table);
     let summary = sweep.run(&so)?;
     eprintln!(
         "layout: {} rays ({} candidates × {} directions; {} computed, {} resumed) -> {}",

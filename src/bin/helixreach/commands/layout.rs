@@ -67,6 +67,9 @@ pub struct Args {
     /// Continue an existing run in --out (same settings only).
     #[arg(long)]
     pub resume: bool,
+    /// Replace an existing run in --out (once the new rays are complete).
+    #[arg(long, conflicts_with = "resume")]
+    pub force: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -111,6 +114,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let control = RunControl {
         resume: args.resume,
+        force: args.force,
         shard: args.shard,
         progress: !args.quiet,
     };
