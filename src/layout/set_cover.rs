@@ -289,11 +289,14 @@ mod tests {
 
     #[test]
     fn node_limit_is_reported() {
-        let sets: Vec<BitSet> = (0..30)
-            .map(|i| BitSet::from_indices(40, &[i, (i * 7) % 40, (i * 13 + 5) % 40]))
+        // Greedy covers 7 of 8 here, so the root cannot be pruned and the search must branch.
+        let sets: Vec<BitSet> = [vec![1, 2, 3, 4, 5, 6], vec![0, 1, 2, 3], vec![4, 5, 6, 7]]
+            .iter()
+            .map(|s| BitSet::from_indices(8, s))
             .collect();
-        let c = exact(&sets, 5, 3);
+        let c = exact(&sets, 2, 1);
         assert!(!c.proven);
-        assert!(c.covered >= greedy(&sets, 5).covered);
+        assert!(c.covered >= greedy(&sets, 2).covered);
+        assert!(exact(&sets, 2, 100).proven);
     }
 }
