@@ -230,7 +230,7 @@ fn kill_and_resume_reproduces_the_uninterrupted_sweep() {
         .env("RAYON_NUM_THREADS", "1")
         .args(args(&out))
         .stdout(Stdio::null())
-        .stderr(Stdio::null())
+        .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     let partial = partial_path(&out);
@@ -248,6 +248,13 @@ fn kill_and_resume_reproduces_the_uninterrupted_sweep() {
         std::thread::sleep(Duration::from_millis(5));
     };
     assert!(killed, "the sweep finished before its first checkpoint");
+    // Progress reached the (non-terminal) stderr at the checkpoint.
+    let err = child.wait_with_output().unwrap().stderr;
+    let err = String::from_utf8_lossy(&err);
+    assert!(
+        err.contains("/6000 computed"),
+        "no progress line on stderr: {err}"
+    );
     assert!(
         !out.exists(),
         "a killed run must not leave a partial output in place"

@@ -38,7 +38,8 @@
 //! - **Sharding**: `shard = I/N` (0-based) keeps the contiguous block `[I·n/N, (I+1)·n/N)` of
 //!   the items; `helixreach merge` ([`super::merge`]) joins the shard files after checking they
 //!   are complete, in order and made with equal settings.
-//! - **Progress** on stderr when `progress` is set: a bar on a terminal, else a line every 10 s.
+//! - **Progress** on stderr when `progress` is set: a bar on a terminal, else a line every 10 s
+//!   and at every checkpoint.
 //!
 //! ```
 //! use helixreach::sweep::driver::{run, SweepOptions};
@@ -383,8 +384,9 @@ impl Progress {
         }
     }
 
-    fn batch_done(&mut self, done: usize) {
-        if self.lines && self.last.elapsed() >= Duration::from_secs(10) {
+    /// Report `done` items: a line every 10 s, or at once with `now` (a checkpoint).
+    fn batch_done(&mut self, done: usize, now: bool) {
+        if self.lines && (now || self.last.elapsed() >= Duration::from_secs(10)) {
             self.last = Instant::now();
             let t = self.t0.elapsed().as_secs_f64();
             let eta = t / done.max(1) as f64 * (self.total - done) as f64;
@@ -563,7 +565,6 @@ where
                 .and_then(|_| w.flush())
                 .map_err(stream_err)?;
         }
-        progress.batch_done(computed);
         if let Some((i, e)) = failure {
             progress.bar.abandon();
             if matches!(sink, Sink::File { .. }) && computed > 0 {
@@ -578,10 +579,14 @@ where
             && last_checkpoint.elapsed() >= opts.checkpoint_interval
             && next < todo.len()
         {
+            // The line first: whoever sees the checkpoint file has seen the line.
+            progress.batch_done(computed, true);
             write_atomic(&partial, &to_csv(&record, &opts.header, &rows)?)?;
             checkpoints += 1;
             first_checkpoint.get_or_insert(t0.elapsed());
             last_checkpoint = Instant::now();
+        } else {
+            progress.batch_done(computed, false);
         }
     }
     progress.bar.finish_and_clear();
