@@ -8,8 +8,9 @@ use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::plot::render::input::{read_trajectory, select_frames, Phase, Row};
 use helixreach::plot::render::{
-    render_gif, render_scene, render_trajectory, Arrangement, ClearanceKind, Configuration,
-    FrameSelection, Layout, Part, RenderOptions, Scene, Snapshot, Solid, TrajectoryRender, View,
+    render_gif, render_rgb, render_scene, render_trajectory, Arrangement, ClearanceKind,
+    Configuration, FrameSelection, Layout, Part, RenderOptions, Scene, Snapshot, Solid,
+    TrajectoryRender, View,
 };
 use helixreach::robot::collision::{ObstaclePose, ObstacleShape, SceneObstacle};
 use helixreach::robot::k_bridge::KRobot;
@@ -283,6 +284,7 @@ fn gif_decodes_to_the_stated_frames_and_size() {
     dec.set_color_output(gif::ColorOutput::RGBA);
     let mut dec = dec.read_info(std::fs::File::open(&out).unwrap()).unwrap();
     assert_eq!((dec.width() as u32, dec.height() as u32), (w, h));
+    let layout = Layout::new(&snaps, &opts, Arrangement::Row).unwrap();
     let mut frames = 0;
     let mut first: Option<Vec<u8>> = None;
     let mut differ = false;
@@ -293,6 +295,19 @@ fn gif_decodes_to_the_stated_frames_and_size() {
             None => first = Some(f.buffer.to_vec()),
             Some(b) => differ |= b[..] != f.buffer[..],
         }
+        // The decoded frame is the drawn frame: every flat colour exact, only rare glyph-edge
+        // greys moved to a palette neighbour.
+        let rgb = render_rgb(&sc, &snaps[frames], &layout, &opts).unwrap();
+        let exact = rgb
+            .chunks_exact(3)
+            .zip(f.buffer.chunks_exact(4))
+            .filter(|(a, b)| a[..] == b[..3])
+            .count();
+        let frac = exact as f64 / (w * h) as f64;
+        assert!(
+            frac > 0.98,
+            "frame {frames}: only {frac} of the pixels exact"
+        );
         frames += 1;
     }
     assert_eq!(frames, n);

@@ -17,13 +17,15 @@
 //! | [`view`] | the orthographic views and their bases |
 //! | [`input`] | reading and checking the trajectory CSV, choosing frames |
 //! | [`draw`] | layout (one world → pixel map, [`Layout::pixel`]) and drawing |
+//! | [`palette`] | a frame's colours reduced to a GIF palette |
 //!
 //! # GIF
-//! Frames are drawn into RGB buffers on the bitmap backend and quantized to 256 colours
-//! (NeuQuant, the `gif` crate's `Frame::from_rgb_speed` at speed 10 — the same crate and call as
-//! plotters' own GIF backend) in parallel, in chunks, then written in order to a temp file that
-//! is renamed over the target when complete. plotters' `gif_backend` draws and encodes
-//! sequentially and writes straight to the target path, so it is not used.
+//! Frames are drawn into RGB buffers on the bitmap backend, reduced to a ≤ 256-colour palette
+//! ([`palette::reduce`]: the most frequent colours, exact — the frames are flat fills) and
+//! LZW-compressed in parallel, in chunks, then written in order with the `gif` crate (the crate
+//! plotters' own `gif_backend` is built on) to a temp file renamed over the target when complete.
+//! plotters' `gif_backend` draws, quantizes (NeuQuant, ≈ 25× the time of the rest of a frame
+//! here) and writes sequentially, straight to the target path, so it is not used.
 //!
 //! ```
 //! use helixreach::plot::render::{render_scene, Configuration, RenderOptions, Scene, View};
@@ -39,6 +41,7 @@
 
 pub mod draw;
 pub mod input;
+pub mod palette;
 pub mod scene;
 pub mod view;
 
@@ -123,21 +126,24 @@ pub fn render_strip(
     )
 }
 
-/// Draw one frame of a row layout into an RGB buffer.
-fn rgb_frame(
+/// Draw `snap` with `layout` (normally [`Arrangement::Row`]) into an RGB buffer of
+/// [`Layout::size`] (row-major, 3 bytes per pixel): one GIF frame before quantization.
+pub fn render_rgb(
     scene: &Scene,
     snap: &Snapshot,
     layout: &Layout,
     opts: &RenderOptions,
-) -> std::result::Result<Vec<u8>, String> {
+) -> Result<Vec<u8>> {
+    crate::plot::style::init_fonts();
     let (w, h) = layout.size();
     let mut buf = vec![255u8; w as usize * h as usize * 3];
-    {
+    let drawn = (|| {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         draw::draw_sheet(&root, scene, std::slice::from_ref(snap), layout, opts)
             .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
+        root.present().map_err(|e| e.to_string())
+    })();
+    drawn.map_err(|e| Error::invalid("frame", "", format!("drawing failed: {e}")))?;
     Ok(buf)
 }
 
@@ -199,21 +205,24 @@ pub fn render_gif(
         let delay = (delay_ms as Real / 10.0).round() as u16;
         let mut done = 0;
         for chunk in snaps.chunks(GIF_CHUNK) {
-            let frames: Vec<std::result::Result<gif::Frame<'static>, String>> = chunk
+            let frames: Vec<Result<gif::Frame<'static>>> = chunk
                 .par_iter()
                 .map(|s| {
-                    let rgb = rgb_frame(scene, s, &layout, opts)?;
-                    let mut f = gif::Frame::from_rgb_speed(w as u16, h as u16, &rgb, 10);
+                    let rgb = render_rgb(scene, s, &layout, opts)?;
+                    let (pal, idx) = palette::reduce(&rgb);
+                    let mut f = gif::Frame::from_palette_pixels(w as u16, h as u16, idx, pal, None);
                     f.delay = delay;
+                    // LZW-compress here, in parallel; the writer only copies the bytes.
+                    f.make_lzw_pre_encoded();
                     Ok(f)
                 })
                 .collect();
             for f in frames {
                 let f = f.map_err(|e| Error::File {
                     path: out.to_path_buf(),
-                    reason: format!("drawing a GIF frame failed: {e}"),
+                    reason: e.to_string(),
                 })?;
-                enc.write_frame(&f).map_err(enc_err)?;
+                enc.write_lzw_pre_encoded_frame(&f).map_err(enc_err)?;
                 done += 1;
                 if progress && (done % (snaps.len() / 10).max(1) == 0 || done == snaps.len()) {
                     eprintln!("render: GIF frame {done}/{}", snaps.len());
@@ -372,7 +381,8 @@ pub fn render_trajectory(
             trajectory.file_name().unwrap_or_default().to_string_lossy(),
             rig.name,
             snaps.len(),
-            azimuth
+            // Rounded so round-off never prints as "-0.000".
+            (azimuth * 1e3).round() / 1e3 + 0.0
         );
     }
     std::fs::create_dir_all(out_dir).map_err(|source| Error::Io {

@@ -93,7 +93,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     eprintln!(
         "render: {} frames (azimuth {:.4} rad), smallest clearance over them: {}; wrote {}, {}, {}{} in {:.2} s",
         sum.frames.len(),
-        sum.azimuth,
+        (sum.azimuth * 1e4).round() / 1e4 + 0.0,
         mins.join(", "),
         sum.strip_png.display(),
         sum.strip_svg.display(),
