@@ -7,6 +7,7 @@
 //! | [`ladder`] | the layered graph of IK solutions and its forward dynamic programming |
 //! | [`planner`] | rungs of IK solutions (track mode), pruning, edges, the plan of one ray |
 //! | [`trajectory`] | time parametrization and the CSV / JSON writers |
+//! | [`check`] | validation of an existing joint trajectory: limits, collisions, steps, pose error |
 //!
 //! The whole pipeline of one ray:
 //!
@@ -22,6 +23,7 @@
 //! # Ok::<(), helixreach::Error>(())
 //! ```
 
+pub mod check;
 pub mod ladder;
 pub mod planner;
 pub mod pose_path;

@@ -34,6 +34,8 @@ enum Command {
     Robot(commands::robot::Args),
     /// Plan the joint + motor trajectory of one ray on a rig.
     Plan(commands::plan::Args),
+    /// Validate a joint trajectory on a rig: limits, collisions, steps, pose error.
+    Check(commands::check::Args),
     /// Reachability sweep of a rig over a direction set.
     Reach(commands::reach::Args),
     /// Clamp placements that together cover a direction set (rig layout).
@@ -73,6 +75,7 @@ fn main() -> ExitCode {
         Command::Ik(a) => commands::ik::run(a),
         Command::Robot(a) => commands::robot::run(a),
         Command::Plan(a) => commands::plan::run(a),
+        Command::Check(a) => commands::check::run(a),
         Command::Reach(a) => commands::reach::run(a),
         Command::Layout(a) => commands::layout::run(a),
         Command::Merge(a) => commands::merge::run(a),

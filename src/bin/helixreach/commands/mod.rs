@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod boundary;
+pub mod check;
 pub mod demo;
 pub mod disturbances;
 pub mod fk;

@@ -1,0 +1,854 @@
+//! Validate an executed (or planned, or imported) joint trajectory against a rig: joint limits,
+//! self / scene / rod collision, joint steps and jumps, and — given the ray's direction — how far
+//! every row's end pose lies from the ray's pose curve.
+//!
+//! # Input ([`JointFile::read`])
+//! One configuration per line, in any of three forms (blank lines and `#` comments are skipped):
+//! - **whitespace numbers**, exactly one per joint (the seed's `trajectories/*.txt`:
+//!   `right_j0 … right_j6`);
+//! - **CSV without header**, exactly one number per joint;
+//! - **CSV with a header**: the columns named like the robot's joints (`right_j0,…`, e.g. a
+//!   MoveIt export; extra columns such as `time` are ignored) or `q0,…,q{n-1}` (helixreach's own
+//!   `plan` CSV). A `motor` column, when present, is checked against the rig's motor range.
+//!
+//! Every row must have the same number of fields as the header (or as joints); every joint value
+//! must be a finite number. Errors name the file, the 1-based line, the column and the text.
+//! At most [`MAX_ROWS`] rows.
+//!
+//! # Checks ([`check_trajectory`])
+//! - **Limits**: every joint inside its URDF limits (no tolerance: a real robot's controller
+//!   does not go past them), the motor inside the rig's motor range.
+//! - **Collision** at every row: self (the robot's filtered pairs), scene (the rig's obstacles)
+//!   and, with a direction, the rod — the helix of the row's `s` as `rod_capsules` capsules of
+//!   radius r + `rod_clearance`, without the last `rod_end_exclusion` metres the motor grips,
+//!   exactly as the planner models it. A row counts once in `collisions` whatever it hits; the
+//!   colliding pairs are listed with their row counts.
+//! - **Steps**: the largest joint change between consecutive rows (max-norm), and how many
+//!   exceed [`JUMP`] = 0.2 rad (the seed README's measure of a Descartes jump). The straight
+//!   joint-space segment of every step longer than `segment_check_step` is also checked for
+//!   self and scene collision at interior samples (reported apart, as `segment_collisions`: how
+//!   a controller moves between two rows is not in the file).
+//! - **Pose** (with a direction): the row's tool pose T(q) by FK is projected onto the ray's pose
+//!   curve s ↦ (p(s), R(s)) ([`crate::planning::pose_path::PoseMap`], the rig's azimuth): s minimizes
+//!   `|p(s) − p|² / L² + θ(s)²` (θ the angle of R(s)ᵀ·R, L the rod length). The first row scans
+//!   [0, `s_max`] every [`SCAN_STEP`]; each later row scans a window around the previous row's s
+//!   (continuity; the window is widened to a full scan when the local minimum is worse than
+//!   [`LOST_TRACK`]); the best grid point is refined by golden-section search to 1e-10 in s.
+//!   The position error |p(s) − p| and rotation error θ(s) at that s are reported per row.
+
+use crate::directions::Direction;
+use crate::error::{Error, Result};
+use crate::helix::discrete::fill_nodes;
+use crate::helix::Helix;
+use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
+use crate::planning::pose_path::PoseMap;
+use crate::planning::rig::{iso_from, tool_from_director, Rig};
+use crate::robot::collision::{BodyRef, Contact, RodGeometry};
+use crate::robot::{CollisionModel, CollisionWorkspace, Frame, RobotModel};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A joint step larger than this (rad, any joint) is a jump.
+pub const JUMP: Real = 0.2;
+/// Largest number of rows of a trajectory file.
+pub const MAX_ROWS: usize = 1_000_000;
+/// Grid step in s of the full scan of the pose projection.
+pub const SCAN_STEP: Real = 0.01;
+/// A local projection whose objective (`|Δp|²/L² + θ²`) exceeds this square is retried with a
+/// full scan (≈ 5 mm on a 0.5 m rod, or 10 mrad).
+pub const LOST_TRACK: Real = 1e-4;
+/// Golden-section tolerance in s of the pose projection.
+pub const S_TOLERANCE: Real = 1e-8;
+/// Largest `held_edges` of [`CheckOptions`].
+pub const MAX_HELD_EDGES: usize = 10_000;
+/// At most this many entries in each list of the report (limit violations, collision rows).
+pub const MAX_LISTED: usize = 50;
+
+/// A joint trajectory read from a file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointFile {
+    /// The file.
+    pub path: PathBuf,
+    /// Number of joints per row.
+    pub dof: usize,
+    /// Joint values, row-major (`rows × dof`).
+    pub q: Vec<Real>,
+    /// 1-based line number of every row.
+    pub lines: Vec<usize>,
+    /// Motor angle of every row, when the file has a `motor` column.
+    pub motor: Option<Vec<Real>>,
+    /// How the file was read (`whitespace`, `csv`, `csv header: joint names`, `csv header: q0..`).
+    pub format: String,
+}
+
+impl JointFile {
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// The joints of row `i`.
+    pub fn row(&self, i: usize) -> &[Real] {
+        &self.q[i * self.dof..(i + 1) * self.dof]
+    }
+
+    /// Read `path` for a robot whose joints are named `joint_names` (see the module docs).
+    pub fn read(path: &Path, joint_names: &[String]) -> Result<JointFile> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text, path, joint_names)
+    }
+
+    /// [`JointFile::read`] on text already read; `path` names it in errors.
+    pub fn parse(text: &str, path: &Path, joint_names: &[String]) -> Result<JointFile> {
+        let dof = joint_names.len();
+        let bad = |line: usize, field: &str, reason: String| Error::BadLine {
+            path: path.to_path_buf(),
+            line,
+            field: field.to_string(),
+            reason,
+        };
+        let mut content = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+            .peekable();
+        let Some(&(first_line, first)) = content.peek() else {
+            return Err(Error::File {
+                path: path.to_path_buf(),
+                reason: "empty file: no joint rows".into(),
+            });
+        };
+        let comma = first.contains(',');
+        let split = |l: &'_ str| -> Vec<String> {
+            if comma {
+                l.split(',').map(|x| x.trim().to_string()).collect()
+            } else {
+                l.split_whitespace().map(str::to_string).collect()
+            }
+        };
+        let first_fields = split(first);
+        let has_header = first_fields.iter().any(|f| f.parse::<Real>().is_err());
+        // Column of each joint, the motor column, the expected field count, and the format.
+        let (cols, motor_col, n_fields, format) = if has_header {
+            content.next();
+            let find = |name: &str| first_fields.iter().position(|h| h == name);
+            let by_name: Option<Vec<usize>> = joint_names.iter().map(|n| find(n)).collect();
+            let by_q: Option<Vec<usize>> = (0..dof).map(|j| find(&format!("q{j}"))).collect();
+            let (cols, format) = match (by_name, by_q) {
+                (Some(c), _) => (c, "csv header: joint names"),
+                (None, Some(c)) => (c, "csv header: q0.."),
+                (None, None) => {
+                    return Err(bad(
+                        first_line,
+                        "header",
+                        format!(
+                            "`{first}` names neither the robot's joints ({}) nor q0..q{}",
+                            joint_names.join(","),
+                            dof.saturating_sub(1)
+                        ),
+                    ))
+                }
+            };
+            (cols, find("motor"), first_fields.len(), format)
+        } else {
+            let format = if comma { "csv" } else { "whitespace" };
+            ((0..dof).collect(), None, dof, format)
+        };
+        let mut q = Vec::new();
+        let mut lines = Vec::new();
+        let mut motor = motor_col.map(|_| Vec::new());
+        for (line, l) in content {
+            if lines.len() >= MAX_ROWS {
+                return Err(bad(
+                    line,
+                    "rows",
+                    format!("more than {MAX_ROWS} rows: not a trajectory this tool checks"),
+                ));
+            }
+            let f = split(l);
+            if f.len() != n_fields {
+                return Err(bad(
+                    line,
+                    "columns",
+                    format!(
+                        "{} fields, expected {n_fields} ({})",
+                        f.len(),
+                        if has_header {
+                            "as many as the header".to_string()
+                        } else {
+                            format!("one per joint: {}", joint_names.join(" "))
+                        }
+                    ),
+                ));
+            }
+            let num = |col: usize, name: &str| -> Result<Real> {
+                let s = &f[col];
+                let v = s
+                    .parse::<Real>()
+                    .map_err(|_| bad(line, name, format!("`{s}` is not a number")))?;
+                if v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(bad(line, name, format!("`{s}` is not a finite value")))
+                }
+            };
+            for (j, &c) in cols.iter().enumerate() {
+                q.push(num(c, &joint_names[j])?);
+            }
+            if let (Some(c), Some(m)) = (motor_col, motor.as_mut()) {
+                m.push(num(c, "motor")?);
+            }
+            lines.push(line);
+        }
+        if lines.is_empty() {
+            return Err(Error::File {
+                path: path.to_path_buf(),
+                reason: "no joint rows after the header".into(),
+            });
+        }
+        Ok(JointFile {
+            path: path.to_path_buf(),
+            dof,
+            q,
+            lines,
+            motor,
+            format: format.to_string(),
+        })
+    }
+}
+
+/// What to check besides limits, collisions and steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckOptions {
+    /// The ray the trajectory drives (enables the pose error and the rod collision check).
+    pub direction: Option<Direction>,
+    /// Helix azimuth α (rad) of the ray.
+    pub azimuth: Real,
+    /// Largest s of the pose projection's full scan.
+    pub s_max: Real,
+    /// Also compute the smallest scene and rod clearance of every row (slower).
+    pub clearance: bool,
+    /// Which end frame the arm holds: 0 = the continuum end's transported frame (the planner's
+    /// [`PoseMap`]); n ≥ 1 = the frame of the last edge of the helix discretized with n edges
+    /// (the transported frame at arc length 1 − 1/(2n)), with the end at node n = r(1). The
+    /// seed imposed the latter with n = [`SEED_HELD_EDGES`] (its DER's 101 vertices; the paper:
+    /// "the material frame on the last edge gives the required rotation matrix").
+    pub held_edges: usize,
+}
+
+/// The seed experiment's `held_edges`: its Descartes targets were the last-edge frames of a
+/// 100-edge discrete helix. Its FK agrees with that curve to ≈ 0.1 mm / 0.2 mrad, and with the
+/// continuum end frame only to ≈ 3 mm / 2 mrad (`tests/check.rs`).
+pub const SEED_HELD_EDGES: usize = 100;
+
+impl Default for CheckOptions {
+    /// No direction, azimuth 0, `s_max` 20, no clearance, the continuum end frame.
+    fn default() -> Self {
+        CheckOptions {
+            direction: None,
+            azimuth: 0.0,
+            s_max: 20.0,
+            clearance: false,
+            held_edges: 0,
+        }
+    }
+}
+
+/// The check of one row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RowCheck {
+    /// 1-based line in the file.
+    pub line: usize,
+    /// s of the row on the ray (projection), when a direction was given.
+    pub s: Option<Real>,
+    /// |p(s) − p| (m).
+    pub position_error: Option<Real>,
+    /// Angle of R(s)ᵀ·R (rad).
+    pub rotation_error: Option<Real>,
+    /// Largest joint step from the previous row (rad; 0 for the first row).
+    pub joint_step: Real,
+    /// The first joint (or `motor`) outside its limits, if any.
+    pub limit: Option<String>,
+    /// The colliding pair (`a|b`) of each kind found at this row (self, scene, rod).
+    pub contacts: Vec<String>,
+    /// Smallest robot–scene distance (m), when clearance was asked.
+    pub scene_clearance: Option<Real>,
+    /// Smallest rod–robot distance (m, rod radius + clearance included), when clearance was
+    /// asked and a direction given.
+    pub rod_clearance: Option<Real>,
+}
+
+/// A colliding pair and the rows where it collides.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairCount {
+    /// `self`, `scene` or `rod`.
+    pub kind: String,
+    /// First body.
+    pub a: String,
+    /// Second body.
+    pub b: String,
+    /// Rows with this contact.
+    pub rows: usize,
+    /// First such row (0-based).
+    pub first_row: usize,
+}
+
+/// The result of [`check_trajectory`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckReport {
+    /// The file.
+    pub file: PathBuf,
+    /// The rig's name.
+    pub rig: String,
+    /// The clamp origin used (base frame, m).
+    pub clamp: [Real; 3],
+    /// Rows.
+    pub rows: usize,
+    /// Rows with a joint (or the motor) outside its limits.
+    pub limit_violations: usize,
+    /// Rows with any collision (self, scene or rod).
+    pub collisions: usize,
+    /// Rows with a self-collision.
+    pub self_collisions: usize,
+    /// Rows with a scene collision.
+    pub scene_collisions: usize,
+    /// Rows with a rod collision (0 and unchecked without a direction).
+    pub rod_collisions: usize,
+    /// Whether the rod was checked (a direction was given).
+    pub rod_checked: bool,
+    /// Colliding pairs, by kind then first row.
+    pub pairs: Vec<PairCount>,
+    /// Interpolated joint-space steps between rows that collide (self or scene) inside.
+    pub segment_collisions: usize,
+    /// Largest joint step (rad) and the row it ends at.
+    pub max_joint_step: (Real, usize),
+    /// Steps over [`JUMP`].
+    pub steps_over_jump: usize,
+    /// Joint-space path length Σ‖Δq‖₂ (rad).
+    pub path_length: Real,
+    /// Largest position error (m) and its row, with a direction.
+    pub max_position_error: Option<(Real, usize)>,
+    /// Largest rotation error (rad) and its row, with a direction.
+    pub max_rotation_error: Option<(Real, usize)>,
+    /// Largest s reached, with a direction.
+    pub s_max_reached: Option<Real>,
+    /// Smallest scene clearance (m) and its row, when asked.
+    pub min_scene_clearance: Option<(Real, usize)>,
+    /// Smallest rod clearance (m) and its row, when asked with a direction.
+    pub min_rod_clearance: Option<(Real, usize)>,
+    /// The pairs (`a|b`) of the smallest scene and rod clearances.
+    pub min_clearance_pairs: [Option<String>; 2],
+    /// Every row.
+    pub row_checks: Vec<RowCheck>,
+}
+
+/// The robot, collision model and pose map a check needs, built once per rig (cheap to reuse
+/// over many files with different clamps: see [`Checker::with_rig`]).
+#[derive(Debug, Clone)]
+pub struct Checker {
+    rig: Rig,
+    model: RobotModel,
+    collision: CollisionModel,
+}
+
+impl Checker {
+    /// Load the rig's robot and scene. Errors name the rig file.
+    pub fn new(rig: Rig) -> Result<Checker> {
+        let model =
+            RobotModel::load(&rig.robot.source(), Some(&rig.robot.tip_link)).map_err(|e| {
+                Error::invalid(
+                    format!("{}: robot", rig.source),
+                    format!(
+                        "urdf = {:?}, tip_link = {:?}",
+                        rig.robot.urdf, rig.robot.tip_link
+                    ),
+                    format!("cannot load the robot: {e}"),
+                )
+            })?;
+        let mut collision = CollisionModel::for_model(&model)?;
+        collision
+            .set_obstacles(&rig.obstacles)
+            .map_err(|e| Error::invalid(format!("{}: obstacle", rig.source), "", e.to_string()))?;
+        Ok(Checker {
+            rig,
+            model,
+            collision,
+        })
+    }
+
+    /// The same robot and scene with another rig of the same robot (e.g. the clamp moved by
+    /// [`Rig::with_clamp_origin`]; the obstacles are re-read from `rig`).
+    pub fn with_rig(&self, rig: Rig) -> Result<Checker> {
+        let mut collision = self.collision.clone();
+        collision.set_obstacles(&rig.obstacles)?;
+        Ok(Checker {
+            rig,
+            model: self.model.clone(),
+            collision,
+        })
+    }
+
+    /// The rig.
+    pub fn rig(&self) -> &Rig {
+        &self.rig
+    }
+
+    /// The robot.
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+
+    /// The robot's joint names, in file order.
+    pub fn joint_names(&self) -> Vec<String> {
+        self.model.joints().iter().map(|j| j.name.clone()).collect()
+    }
+
+    /// Read a trajectory file for this robot ([`JointFile::read`]).
+    pub fn read(&self, path: &Path) -> Result<JointFile> {
+        JointFile::read(path, &self.joint_names())
+    }
+
+    /// Check `traj` (see the module docs).
+    pub fn check(&self, traj: &JointFile, opt: &CheckOptions) -> Result<CheckReport> {
+        check_trajectory(self, traj, opt)
+    }
+}
+
+/// Projection of FK poses onto a ray's pose curve (see the module docs).
+struct Projector {
+    map: PoseMap,
+    dir: [Real; 3],
+    length: Real,
+    s_max: Real,
+    /// 0: the continuum end frame; n: the frame of the last of n edges.
+    held_edges: usize,
+    /// R_c·Rz(α).
+    rc: Mat3,
+    /// Rz(−α).
+    az_inv: Mat3,
+    oc: Vec3,
+}
+
+impl Projector {
+    /// The curve's tool pose at s.
+    fn pose(&mut self, s: Real) -> Result<Iso3> {
+        let kto = [s * self.dir[0], s * self.dir[1], s * self.dir[2]];
+        if self.held_edges == 0 {
+            return Ok(self.map.end(kto)?.0);
+        }
+        // The seed's target: the end at node n, the frame of the last edge — whose frame is
+        // the transported frame at the edge's mid arc length 1 − 1/(2n) to O(1/n²)
+        // ([`crate::helix::discrete`]).
+        let h = Helix::new(kto[0], kto[1], kto[2])?;
+        let d = h.transported_frame(1.0 - 0.5 / self.held_edges as Real);
+        let p = self.oc + self.rc * (h.position(1.0) * self.length);
+        Ok(iso_from(
+            &(self.rc * d * self.az_inv * tool_from_director()),
+            &p,
+        ))
+    }
+
+    /// The objective at s and the (position, rotation) errors.
+    fn eval(&mut self, s: Real, target: &Iso3) -> Result<(Real, Real, Real)> {
+        let pose = self.pose(s)?;
+        let dp = (pose.translation.vector - target.translation.vector).norm();
+        let dr = rotation_angle(
+            &(pose.rotation.inverse() * target.rotation)
+                .to_rotation_matrix()
+                .into_inner(),
+        );
+        Ok(((dp / self.length).powi(2) + dr * dr, dp, dr))
+    }
+
+    /// Best s on `n + 1` grid points over [lo, hi], refined by golden section.
+    fn search(&mut self, lo: Real, hi: Real, n: usize, target: &Iso3) -> Result<(Real, Real)> {
+        let h = (hi - lo) / n as Real;
+        let (mut best, mut fbest) = (lo, Real::INFINITY);
+        for k in 0..=n {
+            let s = lo + h * k as Real;
+            let f = self.eval(s, target)?.0;
+            if f < fbest {
+                (best, fbest) = (s, f);
+            }
+        }
+        // Golden section on the grid cell pair around the best point.
+        let (mut a, mut b) = ((best - h).max(lo), (best + h).min(hi));
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let mut c = b - g * (b - a);
+        let mut d = a + g * (b - a);
+        let (mut fc, mut fd) = (self.eval(c, target)?.0, self.eval(d, target)?.0);
+        while b - a > S_TOLERANCE {
+            if fc < fd {
+                (b, d, fd) = (d, c, fc);
+                c = b - g * (b - a);
+                fc = self.eval(c, target)?.0;
+            } else {
+                (a, c, fc) = (c, d, fd);
+                d = a + g * (b - a);
+                fd = self.eval(d, target)?.0;
+            }
+        }
+        let s = 0.5 * (a + b);
+        let f = self.eval(s, target)?.0;
+        Ok(if f <= fbest { (s, f) } else { (best, fbest) })
+    }
+
+    /// The s of `target`, continuing from `prev = (s, |Δs|)` when given.
+    fn project(&mut self, target: &Iso3, prev: Option<(Real, Real)>) -> Result<Real> {
+        let n_full = (self.s_max / SCAN_STEP).ceil().max(1.0) as usize;
+        let Some((s0, ds)) = prev else {
+            return Ok(self.search(0.0, self.s_max, n_full, target)?.0);
+        };
+        let w = (4.0 * ds).max(0.05);
+        let local = self.search((s0 - w).max(0.0), (s0 + w).min(self.s_max), 10, target)?;
+        if local.1 <= LOST_TRACK {
+            return Ok(local.0);
+        }
+        let global = self.search(0.0, self.s_max, n_full, target)?;
+        Ok(if global.1 < local.1 {
+            global.0
+        } else {
+            local.0
+        })
+    }
+}
+
+fn kind_of(c: &Contact) -> &'static str {
+    match (c.a, c.b) {
+        (BodyRef::Rod(_), _) | (_, BodyRef::Rod(_)) => "rod",
+        (BodyRef::Obstacle(_), _) | (_, BodyRef::Obstacle(_)) => "scene",
+        _ => "self",
+    }
+}
+
+/// Check `traj` on the checker's rig (see the module docs). Errors: a file whose joint count
+/// differs from the robot's, a non-finite or negative `s_max`, a helix the helix module rejects.
+pub fn check_trajectory(
+    checker: &Checker,
+    traj: &JointFile,
+    opt: &CheckOptions,
+) -> Result<CheckReport> {
+    let rig = &checker.rig;
+    let model = &checker.model;
+    let cm = &checker.collision;
+    let dof = model.dof();
+    if traj.dof != dof {
+        return Err(Error::File {
+            path: traj.path.clone(),
+            reason: format!("{} joints per row, the robot has {dof}", traj.dof),
+        });
+    }
+    if !(opt.s_max.is_finite() && opt.s_max > 0.0) {
+        return Err(Error::invalid("s_max", opt.s_max, "must be finite and > 0"));
+    }
+    crate::error::require_finite("azimuth", opt.azimuth)?;
+    if opt.held_edges > MAX_HELD_EDGES {
+        return Err(Error::invalid(
+            "held_edges",
+            opt.held_edges,
+            format!("must be <= {MAX_HELD_EDGES}"),
+        ));
+    }
+    let mut projector = opt.direction.map(|d| Projector {
+        map: PoseMap::new(rig, opt.azimuth),
+        dir: [d.kappa, d.tau, d.omega],
+        length: rig.rod.length,
+        s_max: opt.s_max,
+        held_edges: opt.held_edges,
+        rc: rig.clamp_rotation() * rot_z(opt.azimuth),
+        az_inv: rot_z(-opt.azimuth),
+        oc: rig.clamp.translation.vector,
+    });
+    let tool = Frame::from_iso(&rig.tool);
+    let (lower, upper) = (model.lower(), model.upper());
+    let names = checker.joint_names();
+    let mut ws: CollisionWorkspace = cm.workspace();
+    let mut rod = vec![Vec3::zeros(); rig.planner.rod_capsules + 1];
+    let rc = rig.clamp_rotation() * rot_z(opt.azimuth);
+    let oc = rig.clamp.translation.vector;
+    let mut qi = vec![0.0; dof];
+
+    let mut rows = Vec::with_capacity(traj.rows());
+    let mut pairs: Vec<PairCount> = Vec::new();
+    let o = rig.clamp.translation.vector;
+    let mut rep = CheckReport {
+        file: traj.path.clone(),
+        rig: rig.name.clone(),
+        clamp: [o.x, o.y, o.z],
+        rows: traj.rows(),
+        limit_violations: 0,
+        collisions: 0,
+        self_collisions: 0,
+        scene_collisions: 0,
+        rod_collisions: 0,
+        rod_checked: projector.is_some(),
+        pairs: Vec::new(),
+        segment_collisions: 0,
+        max_joint_step: (0.0, 0),
+        steps_over_jump: 0,
+        path_length: 0.0,
+        max_position_error: None,
+        max_rotation_error: None,
+        s_max_reached: None,
+        min_scene_clearance: None,
+        min_rod_clearance: None,
+        min_clearance_pairs: [None, None],
+        row_checks: Vec::new(),
+    };
+    let mut prev_s: Option<(Real, Real)> = None;
+    let max_of = |cur: &mut Option<(Real, usize)>, v: Real, i: usize| {
+        if cur.is_none_or(|(m, _)| v > m) {
+            *cur = Some((v, i));
+        }
+    };
+    let min_of = |cur: &mut Option<(Real, usize)>, v: Real, i: usize| {
+        let lower = cur.is_none_or(|(m, _)| v < m);
+        if lower {
+            *cur = Some((v, i));
+        }
+        lower
+    };
+    for i in 0..traj.rows() {
+        let q = traj.row(i);
+        let mut row = RowCheck {
+            line: traj.lines[i],
+            s: None,
+            position_error: None,
+            rotation_error: None,
+            joint_step: 0.0,
+            limit: None,
+            contacts: Vec::new(),
+            scene_clearance: None,
+            rod_clearance: None,
+        };
+        // Limits.
+        for j in 0..dof {
+            if !(q[j] >= lower[j] && q[j] <= upper[j]) {
+                row.limit = Some(format!(
+                    "{} = {} outside [{}, {}]",
+                    names[j], q[j], lower[j], upper[j]
+                ));
+                break;
+            }
+        }
+        if let (None, Some(m)) = (&row.limit, &traj.motor) {
+            let (lo, hi) = rig.motor.range;
+            if !(m[i] >= lo && m[i] <= hi) {
+                row.limit = Some(format!("motor = {} outside [{lo}, {hi}]", m[i]));
+            }
+        }
+        if row.limit.is_some() {
+            rep.limit_violations += 1;
+        }
+        // Steps and the interpolated segment.
+        if i > 0 {
+            let p = traj.row(i - 1);
+            let mut step: Real = 0.0;
+            let mut l2 = 0.0;
+            for j in 0..dof {
+                let d = (q[j] - p[j]).abs();
+                step = step.max(d);
+                l2 += d * d;
+            }
+            rep.path_length += l2.sqrt();
+            row.joint_step = step;
+            if step > rep.max_joint_step.0 {
+                rep.max_joint_step = (step, i);
+            }
+            if step > JUMP {
+                rep.steps_over_jump += 1;
+            }
+            let n = (step / rig.planner.segment_check_step).ceil() as usize;
+            for k in 1..n {
+                let t = k as Real / n as Real;
+                for j in 0..dof {
+                    qi[j] = p[j] + t * (q[j] - p[j]);
+                }
+                cm.update(&qi, &mut ws);
+                if cm.self_collision(&ws).is_some() || cm.scene_collision(&ws).is_some() {
+                    rep.segment_collisions += 1;
+                    break;
+                }
+            }
+        }
+        // Pose and the rod of this row.
+        let mut rod_geom = None;
+        if let Some(pr) = projector.as_mut() {
+            let fk = model.chain().tool_pose(q).mul(&tool).to_iso();
+            let s = pr.project(&fk, prev_s)?;
+            let (_, dp, dr) = pr.eval(s, &fk)?;
+            prev_s = Some((s, prev_s.map_or(0.0, |(s0, _)| (s - s0).abs())));
+            row.s = Some(s);
+            row.position_error = Some(dp);
+            row.rotation_error = Some(dr);
+            max_of(&mut rep.max_position_error, dp, i);
+            max_of(&mut rep.max_rotation_error, dr, i);
+            rep.s_max_reached = Some(rep.s_max_reached.map_or(s, |m: Real| m.max(s)));
+            let h = Helix::new(s * pr.dir[0], s * pr.dir[1], s * pr.dir[2])?;
+            fill_nodes(&h, &mut rod);
+            for x in rod.iter_mut() {
+                *x = oc + rc * (*x * rig.rod.length);
+            }
+            rod_geom = Some(RodGeometry {
+                nodes: &rod,
+                radius: rig.rod.radius + rig.planner.rod_clearance,
+                ignore_near_tool: rig.planner.rod_end_exclusion,
+                ignore_near_clamp: 0.0,
+                against_scene: false,
+            });
+        }
+        // Collisions: the first contact of each kind.
+        cm.update(q, &mut ws);
+        let found = [
+            cm.self_collision(&ws),
+            cm.scene_collision(&ws),
+            rod_geom.as_ref().and_then(|r| cm.rod_collision(&ws, r)),
+        ];
+        for c in found.iter().flatten() {
+            let kind = kind_of(c);
+            let (a, b) = (cm.name(c.a), cm.name(c.b));
+            row.contacts.push(format!("{a}|{b}"));
+            match pairs
+                .iter_mut()
+                .find(|p| p.kind == kind && p.a == a && p.b == b)
+            {
+                Some(p) => p.rows += 1,
+                None => pairs.push(PairCount {
+                    kind: kind.to_string(),
+                    a,
+                    b,
+                    rows: 1,
+                    first_row: i,
+                }),
+            }
+        }
+        rep.self_collisions += found[0].is_some() as usize;
+        rep.scene_collisions += found[1].is_some() as usize;
+        rep.rod_collisions += found[2].is_some() as usize;
+        rep.collisions += found.iter().any(|c| c.is_some()) as usize;
+        if opt.clearance {
+            if let Some(c) = cm.scene_clearance(&ws) {
+                row.scene_clearance = Some(c.distance);
+                if min_of(&mut rep.min_scene_clearance, c.distance, i) {
+                    rep.min_clearance_pairs[0] = Some(format!("{}|{}", cm.name(c.a), cm.name(c.b)));
+                }
+            }
+            if let Some(c) = rod_geom.as_ref().and_then(|r| cm.rod_clearance(&ws, r)) {
+                row.rod_clearance = Some(c.distance);
+                if min_of(&mut rep.min_rod_clearance, c.distance, i) {
+                    rep.min_clearance_pairs[1] = Some(format!("{}|{}", cm.name(c.a), cm.name(c.b)));
+                }
+            }
+        }
+        rows.push(row);
+    }
+    pairs.sort_by(|x, y| x.kind.cmp(&y.kind).then(x.first_row.cmp(&y.first_row)));
+    rep.pairs = pairs;
+    rep.row_checks = rows;
+    Ok(rep)
+}
+
+impl CheckReport {
+    /// Whether the trajectory passed: no limit violation, no collision.
+    pub fn passed(&self) -> bool {
+        self.limit_violations == 0 && self.collisions == 0
+    }
+
+    /// The JSON summary (keys: `file`, `rig`, `clamp`, `rows`, `limit_violations`,
+    /// `collisions`, `self_collisions`, `scene_collisions`, `rod_collisions`, `rod_checked`,
+    /// `colliding_pairs`, `collision_rows`, `limit_rows`, `segment_collisions`,
+    /// `max_joint_step`, `max_joint_step_row`, `steps_over_0.2`, `path_length`,
+    /// `max_position_error`, `max_position_error_row`, `max_rotation_error`,
+    /// `max_rotation_error_row`, `s_max_reached`, `min_scene_clearance`, `min_rod_clearance`).
+    /// Rows are 0-based; lists hold at most [`MAX_LISTED`] entries; absent figures are `null`.
+    pub fn to_json(&self) -> serde_json::Value {
+        let collision_rows: Vec<serde_json::Value> = self
+            .row_checks
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| !r.contacts.is_empty())
+            .take(MAX_LISTED)
+            .map(|(i, r)| serde_json::json!({"row": i, "line": r.line, "contacts": r.contacts}))
+            .collect();
+        let limit_rows: Vec<serde_json::Value> = self
+            .row_checks
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| r.limit.as_ref().map(|l| (i, r.line, l)))
+            .take(MAX_LISTED)
+            .map(|(i, line, l)| serde_json::json!({"row": i, "line": line, "limit": l}))
+            .collect();
+        let pairs: Vec<serde_json::Value> = self
+            .pairs
+            .iter()
+            .map(|p| {
+                serde_json::json!({"kind": p.kind, "a": p.a, "b": p.b, "rows": p.rows,
+                    "first_row": p.first_row})
+            })
+            .collect();
+        let v = |x: Option<(Real, usize)>| x.map(|(v, _)| v);
+        let r = |x: Option<(Real, usize)>| x.map(|(_, r)| r);
+        serde_json::json!({
+            "file": self.file.display().to_string(),
+            "rig": self.rig,
+            "clamp": self.clamp,
+            "rows": self.rows,
+            "limit_violations": self.limit_violations,
+            "collisions": self.collisions,
+            "self_collisions": self.self_collisions,
+            "scene_collisions": self.scene_collisions,
+            "rod_collisions": self.rod_collisions,
+            "rod_checked": self.rod_checked,
+            "colliding_pairs": pairs,
+            "collision_rows": collision_rows,
+            "limit_rows": limit_rows,
+            "segment_collisions": self.segment_collisions,
+            "max_joint_step": self.max_joint_step.0,
+            "max_joint_step_row": self.max_joint_step.1,
+            "steps_over_0.2": self.steps_over_jump,
+            "path_length": self.path_length,
+            "max_position_error": v(self.max_position_error),
+            "max_position_error_row": r(self.max_position_error),
+            "max_rotation_error": v(self.max_rotation_error),
+            "max_rotation_error_row": r(self.max_rotation_error),
+            "s_max_reached": self.s_max_reached,
+            "min_scene_clearance": v(self.min_scene_clearance),
+            "min_scene_clearance_row": r(self.min_scene_clearance),
+            "min_scene_clearance_pair": self.min_clearance_pairs[0],
+            "min_rod_clearance": v(self.min_rod_clearance),
+            "min_rod_clearance_row": r(self.min_rod_clearance),
+            "min_rod_clearance_pair": self.min_clearance_pairs[1],
+        })
+    }
+
+    /// The per-row CSV: `row,line,s,position_error,rotation_error,joint_step,limit,contacts,
+    /// scene_clearance,rod_clearance` (empty fields where not computed; contacts `a|b`
+    /// separated by `;`).
+    pub fn rows_csv(&self) -> String {
+        let mut s = String::from(
+            "row,line,s,position_error,rotation_error,joint_step,limit,contacts,\
+             scene_clearance,rod_clearance\n",
+        );
+        let o = |x: Option<Real>| x.map_or(String::new(), |v| v.to_string());
+        for (i, r) in self.row_checks.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{i},{},{},{},{},{},\"{}\",\"{}\",{},{}",
+                r.line,
+                o(r.s),
+                o(r.position_error),
+                o(r.rotation_error),
+                r.joint_step,
+                r.limit.as_deref().unwrap_or(""),
+                r.contacts.join(";"),
+                o(r.scene_clearance),
+                o(r.rod_clearance)
+            );
+        }
+        s
+    }
+}
