@@ -107,15 +107,30 @@ pub fn fmt_num(x: f64) -> String {
     }
 }
 
-/// A value's text for a message: a long decimal expansion of a float (more than 40 characters,
-/// or more than 24 with a decimal point) is rewritten with [`fmt_num`]; anything else (integers
-/// up to 40 digits, names, lists) is kept as is.
-fn compact_number_text(text: String) -> String {
-    let long = text.len() > 40 || (text.contains('.') && text.len() > 24);
-    match text.parse::<f64>() {
-        Ok(x) if long => fmt_num(x),
-        _ => text,
+/// A value's text for a message: every number in it (also inside tuples and lists) that is a
+/// decimal expansion of a magnitude < 1e-4 or ≥ 1e15, or is longer than 40 characters, is
+/// rewritten with [`fmt_num`]; anything else (integers up to 40 digits, ordinary decimals,
+/// names) is kept as is.
+pub(crate) fn compact_number_text(text: String) -> String {
+    let is_num = |c: char| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-');
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text.as_str();
+    while let Some(start) = rest.find(is_num) {
+        out.push_str(&rest[..start]);
+        let tail = &rest[start..];
+        let len = tail.find(|c: char| !is_num(c)).unwrap_or(tail.len());
+        let token = &tail[..len];
+        let tiny_or_huge = |x: f64| x != 0.0 && !(1e-4..1e15).contains(&x.abs());
+        match token.parse::<f64>() {
+            Ok(x) if token.len() > 40 || (token.contains('.') && tiny_or_huge(x)) => {
+                out.push_str(&fmt_num(x))
+            }
+            _ => out.push_str(token),
+        }
+        rest = &tail[len..];
     }
+    out.push_str(rest);
+    out
 }
 
 /// Check that `value` is finite; otherwise an [`Error::InvalidParameter`] naming `field`.
@@ -149,6 +164,8 @@ mod tests {
         // Integers keep every digit; ordinary floats are untouched.
         let e = Error::invalid("n", u64::MAX, "x").to_string();
         assert!(e.contains("18446744073709551615"), "{e}");
+        let e = Error::invalid("d", format!("({}, {}, 1)", 6.1e-17, 1e300), "x").to_string();
+        assert!(e.contains("(6.1e-17, 1e300, 1)"), "{e}");
         assert!(Error::invalid("x", 0.1 + 0.2, "y")
             .to_string()
             .contains("0.30000000000000004"));

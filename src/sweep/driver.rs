@@ -266,7 +266,7 @@ fn prepare_file(
     let (out_exists, partial_exists) = (out.exists(), partial.exists());
     if !opts.resume && !opts.force && (out_exists || partial_exists) {
         let what = if out_exists {
-            format!("{} already exists", out.display())
+            "it already exists".to_string()
         } else {
             format!(
                 "an unfinished run's checkpoint {} exists",
@@ -571,7 +571,7 @@ where
                 write_atomic(&partial, &to_csv(&record, &opts.header, &rows)?)?;
             }
             return Err(Error::Item {
-                key: keys[i].join(","),
+                key: crate::error::compact_number_text(keys[i].join(",")),
                 cause: Box::new(e),
             });
         }
