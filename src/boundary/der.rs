@@ -60,9 +60,11 @@
 //! # What `est_error` covers
 //! The `est_error` of a [`critical_s`] result is the half-width of the final bracket (root
 //! finding to `tol_rel`) **plus** an empirical discretization bound
-//! `DISCRETIZATION_COEFF·φ²·s*` ([`DISCRETIZATION_COEFF`] = 0.3): it covered the measured
-//! error on every direction of the 2,000-direction half-sphere at n ≥ 50 and the n = 25 case
-//! above, conservatively (typically 3–10× the actual error). [`DerRay::critical_s`] (the ray
+//! `DISCRETIZATION_COEFF·φ²·s*` ([`DISCRETIZATION_COEFF`] = 0.3). It is **not** a guarantee:
+//! on the 2,000-direction half-sphere it covered the actual error on all but 8, 13 and 9
+//! directions at n = 50, 100, 200 (the README's DER section names the outliers: the κ → 0 band
+//! with |ω̂| ≈ 0.9 and directions near the τ axis where the discrete branch folds).
+//! [`DerRay::critical_s`] (the ray
 //! alone) reports the bracket only. The measured discretization error (raw and
 //! Richardson-extrapolated, `(4·s*_{2n} − s*_n)/3`) over the half-sphere is the README's DER
 //! table (`examples/der_convergence.rs`).
@@ -131,9 +133,8 @@ pub const MAX_ROTATION_PER_EDGE: Real = 1.5;
 
 /// The discretization part of a DER result's `est_error`: `DISCRETIZATION_COEFF·φ²·s*` with φ
 /// the [`rotation_per_edge`] at s*. Measured |s*_n/s*_∞ − 1| on (0.175, −0.366, −0.914):
-/// 0.55 at φ = 1.36, 0.064 at 0.67, 0.014 at 0.33 (≈ 0.13…0.3·φ²), and at most ≈ 0.1·φ² on the
-/// 2,000-direction half-sphere at n ≥ 50: an empirical, conservative bound (it is not a
-/// rigorous one; the README's table has the measured errors).
+/// 0.55 at φ = 1.36, 0.064 at 0.67, 0.014 at 0.33 (≈ 0.13…0.3·φ²). Empirical, not rigorous:
+/// it failed to cover 8–13 of the 2,000 half-sphere directions per n (README, DER section).
 pub const DISCRETIZATION_COEFF: Real = 0.3;
 
 pub use super::continuum::CriticalS;
