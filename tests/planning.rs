@@ -8,6 +8,7 @@ use helixreach::helix::{discrete, Helix};
 use helixreach::math::{rot_z, rotation_angle, Mat3, Real, Vec3};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
 use helixreach::planning::rig::{Rig, RollMode};
+use helixreach::planning::trajectory::Phase;
 use helixreach::robot::collision::RodGeometry;
 use helixreach::robot::{CollisionModel, Frame};
 use std::sync::OnceLock;
@@ -40,7 +41,13 @@ fn verify(planner: &Planner, plan: &RayPlan) {
     let rig = planner.rig();
     let model = planner.model();
     let path = plan.path.as_ref().expect("path");
-    assert_eq!(path.len(), plan.n_reached);
+    let loads = path.iter().filter(|p| p.phase == Phase::Load).count();
+    assert_eq!(loads, plan.n_reached);
+    let reconf_pieces = path
+        .windows(2)
+        .filter(|w| w[0].phase == Phase::Load && w[1].phase == Phase::Reconfigure)
+        .count();
+    assert_eq!(reconf_pieces, plan.reconfigurations);
     let (lower, upper) = (model.lower(), model.upper());
     let mut cm = CollisionModel::for_model(model).unwrap();
     cm.set_obstacles(&rig.obstacles).unwrap();
@@ -134,7 +141,26 @@ fn verify(planner: &Planner, plan: &RayPlan) {
                     hit.map(|h| (cm.name(h.a), cm.name(h.b)))
                 );
             }
-            assert!(w.s > path[k - 1].waypoint.s, "s must increase");
+            match pt.phase {
+                Phase::Load => assert!(w.s > path[k - 1].waypoint.s, "s must increase"),
+                Phase::Reconfigure => {
+                    // s constant, and the rod end stays put along the joint-linear chord.
+                    assert_eq!(w.s, path[k - 1].waypoint.s, "s constant while reconfiguring");
+                    for i in 1..8 {
+                        let t = i as Real / 8.0;
+                        let q: Vec<Real> = (0..dof).map(|j| a[j] + t * (pt.q[j] - a[j])).collect();
+                        let f = model.chain().tool_pose(&q).mul(&tool);
+                        let dp = (f.pos - p).norm();
+                        let da = rotation_angle(&(r_transported.transpose() * f.rot));
+                        match plan.roll {
+                            RollMode::Fixed => assert!(dp <= 1e-6 && da <= 1e-6, "{dp:e} {da:e}"),
+                            RollMode::Motor => assert!(dp <= 1e-6, "{dp:e}"),
+                        }
+                    }
+                    assert_eq!(pt.motor, path[k - 1].motor, "the motor holds while reconfiguring");
+                }
+                _ => panic!("phase {} in a planned path", pt.phase),
+            }
         }
     }
     // The reported max joint step is the path's.
@@ -149,6 +175,26 @@ fn verify(planner: &Planner, plan: &RayPlan) {
     assert!((max_step - plan.max_joint_step).abs() < 1e-15);
     // Time parametrization: every joint and the motor within their scaled limits.
     let traj = planner.trajectory(plan).unwrap();
+    // The seed's protocol: load (with reconfigurations), one hold, unload along the same path.
+    let n = path.len();
+    assert_eq!(traj.points.len(), 2 * n);
+    assert_eq!(traj.points[n].phase, Phase::Hold);
+    assert!(traj.points[n].t - traj.points[n - 1].t >= rig.planner.hold_time);
+    for k in 0..n {
+        assert_eq!(traj.points[k].phase, path[k].phase);
+        let back = &traj.points[2 * n - 1 - k];
+        assert_eq!(back.q, path[k].q, "unloading retraces loading");
+        assert_eq!(back.s, path[k].waypoint.s);
+        if k + 1 < n {
+            let want = if path[k + 1].phase == Phase::Reconfigure {
+                Phase::Reconfigure
+            } else {
+                Phase::Unload
+            };
+            assert_eq!(back.phase, want);
+        }
+    }
+    assert_eq!(traj.points.last().unwrap().s, 0.0);
     let scale = rig.planner.velocity_scale;
     for wdw in traj.points.windows(2) {
         let dt = wdw[1].t - wdw[0].t;
@@ -279,14 +325,15 @@ fn bad_rigs_and_inputs_are_clear_errors() {
     .unwrap();
     let e = Planner::new(rig).unwrap_err().to_string();
     assert!(e.contains("bad.toml") && e.contains("right_nose"), "{e}");
-    // Zero margin.
-    let e = load("margin = 0.10", "margin = 0.0")
+    // A negative margin (0 is allowed: the seed drove to the boundary).
+    let e = load("margin = 0.10", "margin = -0.1")
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("bad.toml: planner.margin") && e.contains("= 0"),
+        e.contains("bad.toml: planner.margin") && e.contains("= -0.1"),
         "{e}"
     );
+    assert!(load("margin = 0.10", "margin = 0.0").is_ok());
     // κ < 0.
     let e = Direction::new(-0.1, 0.5, 0.5).unwrap_err().to_string();
     assert!(e.contains("dir_kappa"), "{e}");
@@ -357,4 +404,5 @@ fn the_verifier_catches_corrupted_paths() {
     assert!(corrupt(&|p| p.path.as_mut().unwrap()[5].q[3] += 1e-3));
     assert!(corrupt(&|p| p.path.as_mut().unwrap()[7].motor += 1e-3));
     assert!(corrupt(&|p| p.azimuth += 1e-3));
+    assert!(corrupt(&|p| p.path.as_mut().unwrap()[6].phase = Phase::Reconfigure));
 }

@@ -300,6 +300,17 @@ impl<N> Ladder<N> {
                 j = k;
             }
         }
+        self.path_to(j)
+    }
+
+    /// The minimum-cost path from the first rung to node `j` of the last stored rung, and its
+    /// cost; `None` when there is no such node.
+    pub fn path_to(&self, j: usize) -> Option<(Vec<&N>, Real)> {
+        let (last_nodes, last_cost) = self.last();
+        if j >= last_nodes.len() {
+            return None;
+        }
+        let mut j = j;
         let total = last_cost[j];
         let mut path = Vec::with_capacity(self.nodes.len());
         for r in (0..self.nodes.len()).rev() {

@@ -5,7 +5,8 @@
 //! | [`rig`] | the rig TOML schema, its validation, embedded rigs |
 //! | [`pose_path`] | a ray (S̄, α) as rod-end poses in the base frame, adaptive in s |
 //! | [`ladder`] | the layered graph of IK solutions and its forward dynamic programming |
-//! | [`planner`] | rungs of IK solutions (track mode), pruning, edges, the plan of one ray |
+//! | [`planner`] | rungs of IK solutions (track mode), pruning, edges, reconfiguration, the plan of one ray |
+//! | [`self_motion`] | walking the self-motion manifold of a held pose; resampling within 1e-6 m / rad |
 //! | [`trajectory`] | time parametrization and the CSV / JSON writers |
 //! | [`check`] | validation of an existing joint trajectory: limits, collisions, steps, pose error |
 //!
@@ -29,4 +30,5 @@ pub mod planner;
 pub mod pose_path;
 pub mod rig;
 pub mod rig_write;
+pub mod self_motion;
 pub mod trajectory;

@@ -24,10 +24,30 @@
 //! more than `segment_check_step` apart (max-norm), against the rod of the later waypoint. The DP
 //! is [`crate::planning::ladder::Ladder`].
 //!
+//! # Reconfiguration at a held pose
+//! When no node of the next rung can be joined even after `MAX_REFINE` halvings of the s-step,
+//! and the rig allows it (`planner.allow_reconfiguration`), the arm may move along the
+//! self-motion manifold of the **held** rod-end pose ([`crate::planning::self_motion`]): for
+//! each reachable node of the last rung (cheapest first, one walk per connected component) the
+//! valid component is walked in both directions at resolution `planner.self_motion_step`
+//! (every sample: limits, self/scene/rod collision against the held rod, joint-linear segment
+//! checked every `segment_check_step`); at every sample the step to the next waypoint is tried
+//! (track, step bound, collision). The first sample that advances ends the search; the walk to it
+//! is resampled so that the rod end stays within 1e-6 m / 1e-6 rad on every joint-linear chord,
+//! re-checked, and becomes a `reconfigure` piece of the path (s constant). The ladder then
+//! restarts from that configuration. Reconfiguration only acts where the plan without it stops,
+//! so allowing it never reaches less. The walk covers the connected valid component of each node
+//! at the walk resolution; it does not search components no reachable node lies on.
+//!
+//! # Roll mode `motor` contains `fixed`
+//! Every fixed-roll path is a motor-roll path (roll ψ = 0, motor ω/c). A ray in roll mode
+//! `motor` that the motor-mode ladder does not make testable is also planned in roll mode
+//! `fixed`, and the farther of the two is returned: `motor` never reaches less than `fixed`.
+//!
 //! # Result
 //! The farthest s reached, the class (testable: the whole path to s*·(1 + margin); partial:
-//! stopped after s = 0; blocked: cannot leave the straight rod) and the blocking cause (the
-//! dominant rejection of the first dead rung).
+//! stopped after s = 0; blocked: cannot leave the straight rod), the blocking cause (the
+//! dominant rejection of the first dead rung) and the number of reconfigurations.
 
 use crate::directions::Direction;
 use crate::error::{Error, Result};
@@ -36,7 +56,10 @@ use crate::math::{rot_z, tol, Iso3, Mat3, Real, Vec3};
 use crate::planning::ladder::{BlockCause, CauseCounts, Ladder};
 use crate::planning::pose_path::{pose_path, PoseMap, Ray, Spacing, Waypoint};
 use crate::planning::rig::{tool_from_director, Rig, RollMode};
-use crate::planning::trajectory::{time_parametrize, TimingLimits, Trajectory, TrajectoryPoint};
+use crate::planning::self_motion::{self, Held, WalkSettings};
+use crate::planning::trajectory::{
+    time_parametrize, Phase, TimingLimits, Trajectory, TrajectoryPoint,
+};
 use crate::robot::collision::{BodyRef, Contact, RodGeometry};
 use crate::robot::{
     CollisionModel, CollisionWorkspace, Frame, IkParams, IkSolver, IkTarget, RobotModel, MAX_DOF,
@@ -45,6 +68,12 @@ use std::sync::OnceLock;
 
 /// Halvings of the s-step allowed at one waypoint when its rung cannot be joined.
 const MAX_REFINE: u32 = 4;
+
+/// Most reconfigurations of one ray.
+const MAX_RECONFIGURATIONS: usize = 64;
+
+/// Most samples of one self-motion walk (one direction from one node).
+const MAX_WALK_SAMPLES: usize = 2_000;
 
 /// Reachability class of a ray.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -77,6 +106,8 @@ pub struct PlannedPoint {
     pub q: Vec<Real>,
     /// Motor angle (rad): the rod's turn about d3 relative to the frame the arm holds.
     pub motor: Real,
+    /// `Load`, or `Reconfigure` for a self-motion sample at the previous point's pose.
+    pub phase: Phase,
 }
 
 /// The plan of one ray.
@@ -100,14 +131,61 @@ pub struct RayPlan {
     pub roll: RollMode,
     /// Waypoints of the pose path (to s_end).
     pub n_waypoints: usize,
-    /// Waypoints reached.
+    /// Waypoints reached (distinct s; reconfiguration samples not counted).
     pub n_reached: usize,
+    /// Self-motion reconfigurations at a held pose on the path.
+    pub reconfigurations: usize,
     /// DP cost of the path to `s_reached`.
     pub path_cost: Real,
     /// Largest joint step on the path (rad).
     pub max_joint_step: Real,
     /// The path to `s_reached` (when asked for).
     pub path: Option<Vec<PlannedPoint>>,
+}
+
+/// Overrides of a rig's settings, as `plan` and `reach` take them on the command line
+/// (`--margin`, `--clamp`, `--no-reconfiguration`).
+///
+/// ```
+/// use helixreach::planning::{planner::RigOverrides, rig::Rig};
+/// let rig = Rig::load("sawyer-seed").unwrap();
+/// let o = RigOverrides { margin: Some(0.0), clamp: Some([0.85, -0.1, -0.146]), ..Default::default() };
+/// let r = o.apply(&rig).unwrap();
+/// assert_eq!(r.planner.margin, 0.0);
+/// assert_eq!(r.clamp.translation.vector.y, -0.1);
+/// let bad = RigOverrides { clamp: Some([0.85, f64::NAN, -0.146]), ..Default::default() };
+/// assert!(bad.apply(&rig).unwrap_err().to_string().contains("clamp.origin[1]"));
+/// let bad = RigOverrides { margin: Some(-0.1), ..Default::default() };
+/// assert!(bad.apply(&rig).unwrap_err().to_string().contains("margin"));
+/// ```
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RigOverrides {
+    /// `planner.margin`, in [0, 1].
+    pub margin: Option<Real>,
+    /// `clamp.origin` (base frame, m), see [`Rig::with_clamp_origin`].
+    pub clamp: Option<[Real; 3]>,
+    /// `planner.allow_reconfiguration`.
+    pub allow_reconfiguration: Option<bool>,
+}
+
+impl RigOverrides {
+    /// The rig with these overrides; errors name the field and the value.
+    pub fn apply(&self, rig: &Rig) -> Result<Rig> {
+        let mut rig = match self.clamp {
+            Some(c) => rig.with_clamp_origin(c)?,
+            None => rig.clone(),
+        };
+        if let Some(m) = self.margin {
+            if !(0.0..=1.0).contains(&m) {
+                return Err(Error::invalid("margin (override)", m, "must lie in [0, 1]"));
+            }
+            rig.planner.margin = m;
+        }
+        if let Some(a) = self.allow_reconfiguration {
+            rig.planner.allow_reconfiguration = a;
+        }
+        Ok(rig)
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -436,8 +514,30 @@ impl Planner {
 
     /// Plan one ray at one azimuth in one roll mode; `want_path` keeps the joint path.
     /// `s_star` is the boundary along the ray (∞ = stable up to [`tol::S_MAX`], then the path
-    /// ends at `S_MAX`).
+    /// ends at `S_MAX`). The path goes to `s_star·(1 + margin)` (the rig's `planner.margin`).
+    /// In roll mode `motor` the result reaches at least as far as roll mode `fixed` (module docs).
     pub fn plan_ray(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
+        let native = self.plan_ray_in(dir, s_star, azimuth, roll, want_path)?;
+        if roll == RollMode::Fixed || native.class == ReachClass::Testable {
+            return Ok(native);
+        }
+        let mut fixed = self.plan_ray_in(dir, s_star, azimuth, RollMode::Fixed, want_path)?;
+        if fixed.s_reached > native.s_reached {
+            fixed.roll = RollMode::Motor;
+            Ok(fixed)
+        } else {
+            Ok(native)
+        }
+    }
+
+    fn plan_ray_in(
         &self,
         dir: &Direction,
         s_star: Real,
@@ -470,6 +570,7 @@ impl Planner {
             roll,
             n_waypoints: wps.len(),
             n_reached: 0,
+            reconfigurations: 0,
             path_cost: 0.0,
             max_joint_step: 0.0,
             path: None,
@@ -486,6 +587,11 @@ impl Planner {
         let mut ladder: Ladder<Node> = Ladder::new();
         ladder.push_first(start.clone());
         let map = PoseMap::new(&self.rig, azimuth);
+        // Finished pieces of the path (before the current ladder): nodes with their waypoints
+        // and phases, and their cost.
+        let mut done: Vec<(Node, Waypoint, Phase)> = Vec::new();
+        let mut done_cost = 0.0;
+        let mut reached_before = 0usize;
         let mut accepted: Vec<Waypoint> = Vec::with_capacity(wps.len());
         accepted.push(wps[0].clone());
         // Targets still to reach before wps[next]: refinements (midpoints), innermost last.
@@ -495,6 +601,7 @@ impl Planner {
         let mut inserted = 0usize;
         let mut stop_cause = None;
         let mut order: Vec<usize> = Vec::new();
+        let mut reconfigured_at: Option<Real> = None;
         while next < wps.len() {
             let w = pending.last().unwrap_or(&wps[next]).clone();
             match self.push_rung(&mut ladder, &w, azimuth, roll, &solver, &mut sc, &mut order)? {
@@ -522,15 +629,44 @@ impl Planner {
                         inserted += 1;
                         continue;
                     }
+                    // Reconfigure at the held pose (once per held waypoint).
+                    let held = accepted.last().expect("non-empty").clone();
+                    if self.rig.planner.allow_reconfiguration
+                        && plan.reconfigurations < MAX_RECONFIGURATIONS
+                        && reconfigured_at != Some(held.s)
+                    {
+                        reconfigured_at = Some(held.s);
+                        if let Some((i, walk, walk_cost)) =
+                            self.reconfigure(&ladder, &held, &w, azimuth, roll, &solver)?
+                        {
+                            let (path, cost) = ladder.path_to(i).expect("node of the last rung");
+                            let skip = usize::from(!done.is_empty());
+                            for (n, wp) in path.iter().zip(&accepted).skip(skip) {
+                                done.push((**n, wp.clone(), Phase::Load));
+                            }
+                            reached_before += accepted.len() - skip;
+                            for n in &walk {
+                                done.push((*n, held.clone(), Phase::Reconfigure));
+                            }
+                            done_cost += cost + walk_cost;
+                            plan.reconfigurations += 1;
+                            let last = *walk.last().expect("non-empty walk");
+                            ladder.push_first(vec![last]);
+                            accepted.clear();
+                            accepted.push(held);
+                            continue;
+                        }
+                    }
                     stop_cause = Some(cause);
                     break;
                 }
             }
         }
         plan.n_waypoints = wps.len() + inserted;
-        let reached = ladder.len();
+        let skip = usize::from(!done.is_empty());
+        let reached = reached_before + ladder.len() - skip;
         plan.n_reached = reached;
-        plan.s_reached = accepted[reached - 1].s;
+        plan.s_reached = accepted[ladder.len() - 1].s;
         plan.cause = stop_cause;
         plan.class = if stop_cause.is_none() {
             if s_star.is_finite() {
@@ -544,29 +680,184 @@ impl Planner {
             ReachClass::Blocked
         };
         if let Some((path, cost)) = ladder.best_path() {
-            plan.path_cost = cost;
-            plan.max_joint_step = path
+            plan.path_cost = done_cost + cost;
+            let mut full: Vec<(Node, Waypoint, Phase)> = done;
+            for (n, wp) in path.iter().zip(&accepted).skip(skip) {
+                full.push((**n, wp.clone(), Phase::Load));
+            }
+            plan.max_joint_step = full
                 .windows(2)
                 .map(|p| {
                     (0..self.dof)
-                        .map(|j| (p[1].q[j] - p[0].q[j]).abs())
+                        .map(|j| (p[1].0.q[j] - p[0].0.q[j]).abs())
                         .fold(0.0, Real::max)
                 })
                 .fold(0.0, Real::max);
             if want_path {
                 plan.path = Some(
-                    path.iter()
-                        .zip(&accepted)
-                        .map(|(n, w)| PlannedPoint {
-                            waypoint: w.clone(),
+                    full.into_iter()
+                        .map(|(n, waypoint, phase)| PlannedPoint {
+                            waypoint,
                             q: n.q[..self.dof].to_vec(),
                             motor: n.motor,
+                            phase,
                         })
                         .collect(),
                 );
             }
         }
         Ok(plan)
+    }
+
+    /// Search the self-motion of the held pose for a configuration from which the next waypoint
+    /// `next` can be joined (module docs). Returns the index of the last-rung node it starts
+    /// from, the resampled walk (after that node; its last entry advances) and the walk's cost.
+    #[allow(clippy::type_complexity)]
+    fn reconfigure(
+        &self,
+        ladder: &Ladder<Node>,
+        held: &Waypoint,
+        next: &Waypoint,
+        azimuth: Real,
+        roll: RollMode,
+        solver: &IkSolver<'_>,
+    ) -> Result<Option<(usize, Vec<Node>, Real)>> {
+        if self.dof != 7 {
+            return Ok(None);
+        }
+        let p = &self.rig.planner;
+        let settings = WalkSettings {
+            max_step: p.self_motion_step,
+            min_step: 1e-4,
+            joint_step_bound: p.max_joint_step,
+            max_samples: MAX_WALK_SAMPLES,
+        };
+        let mut sh = self.new_scratch(); // held rod
+        let mut sn = self.new_scratch(); // next rod
+        self.rod_nodes(held.kto, azimuth, &mut sh.rod)?;
+        self.rod_nodes(next.kto, azimuth, &mut sn.rod)?;
+        let next_target = self.target(&next.tool, roll);
+        let (prev, prev_cost) = ladder.last();
+        let mut order: Vec<usize> = (0..prev.len()).collect();
+        order.sort_by(|&a, &b| prev_cost[a].total_cmp(&prev_cost[b]).then(a.cmp(&b)));
+        let mut visited: Vec<self_motion::Q> = Vec::new();
+        let near = |a: &self_motion::Q, b: &self_motion::Q| {
+            (0..self.dof).all(|j| (a[j] - b[j]).abs() <= 0.5 * p.max_joint_step)
+        };
+        for &i in &order {
+            let start = prev[i];
+            if visited.iter().any(|v| near(v, &start.q)) {
+                continue;
+            }
+            visited.push(start.q);
+            let held_pose = Held {
+                chain: self.model.chain(),
+                solver,
+                tip: self.model.chain().tool_pose(&start.q[..self.dof]),
+                dof: self.dof,
+            };
+            let motor = start.motor;
+            for sign in [1.0, -1.0] {
+                let mut found: Option<Node> = None;
+                let (samples, hit) = self_motion::walk(
+                    &held_pose,
+                    &start.q,
+                    sign,
+                    &settings,
+                    |a, b| {
+                        self.check_config(&b[..self.dof], &mut sh).is_ok()
+                            && self
+                                .check_segment(&node(*a, motor), &node(*b, motor), &mut sh)
+                                .is_ok()
+                    },
+                    |q| {
+                        found = self.advance(&node(*q, motor), next, &next_target, roll, solver, &mut sn);
+                        found.is_some()
+                    },
+                );
+                visited.extend(samples.iter().copied());
+                if !hit {
+                    continue;
+                }
+                // Resample, re-check every sample and chord against the held rod.
+                let mut coarse = vec![start.q];
+                coarse.extend(samples.iter().copied());
+                let Some(fine) = self_motion::refine(&held_pose, &coarse) else {
+                    continue;
+                };
+                let mut ok = true;
+                let mut prev_q = start.q;
+                let mut cost = 0.0;
+                for q in &fine {
+                    let (a, b) = (node(prev_q, motor), node(*q, motor));
+                    match self.edge_cost(&a, &b) {
+                        Some(c) if self.check_config(&q[..self.dof], &mut sh).is_ok()
+                            && self.check_segment(&a, &b, &mut sh).is_ok() =>
+                        {
+                            cost += c;
+                        }
+                        _ => {
+                            ok = false;
+                            break;
+                        }
+                    }
+                    prev_q = *q;
+                }
+                if ok && found.is_some() {
+                    let walk: Vec<Node> = fine.iter().map(|q| node(*q, motor)).collect();
+                    return Ok(Some((i, walk, cost)));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// The node of waypoint `next` tracked from `from` (unlocked, then with the redundancy joint
+    /// half a step either side) that passes every check of a ladder edge, if any.
+    fn advance(
+        &self,
+        from: &Node,
+        next: &Waypoint,
+        target: &IkTarget,
+        roll: RollMode,
+        solver: &IkSolver<'_>,
+        sc: &mut Scratch,
+    ) -> Option<Node> {
+        let j = self.red_joint;
+        let step = self.rig.planner.max_joint_step;
+        let (lower, upper) = (self.model.lower(), self.model.upper());
+        let locks = [
+            None,
+            Some((j, from.q[j] + 0.5 * step)),
+            Some((j, from.q[j] - 0.5 * step)),
+        ];
+        for lock in locks {
+            if let Some((_, v)) = lock {
+                if !(v > lower[j] && v < upper[j]) {
+                    continue;
+                }
+            }
+            let Some(sol) = solver.track(target, &from.q[..self.dof], lock) else {
+                continue;
+            };
+            let q = sol.joints();
+            let motor = self.motor_angle(next, q, roll, from.motor);
+            if !self.motor_ok(motor) {
+                continue;
+            }
+            let mut n = Node {
+                q: [0.0; MAX_DOF],
+                motor,
+            };
+            n.q[..self.dof].copy_from_slice(q);
+            if self.edge_cost(from, &n).is_some()
+                && self.check_config(q, sc).is_ok()
+                && self.check_segment(from, &n, sc).is_ok()
+            {
+                return Some(n);
+            }
+        }
+        None
     }
 
     /// Build the rung of waypoint `w` from the ladder's last rung and push it; `None` on
@@ -695,23 +986,38 @@ impl Planner {
         best.ok_or_else(|| Error::invalid("azimuths", "[]", "need at least one azimuth"))
     }
 
-    /// The time-parametrized trajectory of a plan with a path (see [`crate::planning::trajectory`]).
+    /// The time-parametrized trajectory of a plan with a path (see
+    /// [`crate::planning::trajectory`]): the seed's protocol — load along the path (with its
+    /// `reconfigure` pieces) to the farthest s reached, hold for the rig's `hold_time`, and
+    /// unload back to the straight rod along the same joint path reversed.
     pub fn trajectory(&self, plan: &RayPlan) -> Result<Trajectory> {
         let path = plan
             .path
             .as_ref()
             .ok_or_else(|| Error::invalid("plan", "no path", "plan with want_path = true"))?;
-        let mut points: Vec<TrajectoryPoint> = path
-            .iter()
-            .map(|p| TrajectoryPoint {
-                t: 0.0,
-                q: p.q.clone(),
-                motor: p.motor,
-                s: p.waypoint.s,
-                kto: p.waypoint.kto,
-                pose: self.tool_pose(&p.q),
-            })
-            .collect();
+        let point = |p: &PlannedPoint, phase: Phase| TrajectoryPoint {
+            t: 0.0,
+            q: p.q.clone(),
+            motor: p.motor,
+            s: p.waypoint.s,
+            kto: p.waypoint.kto,
+            pose: self.tool_pose(&p.q),
+            phase,
+        };
+        let mut points: Vec<TrajectoryPoint> = path.iter().map(|p| point(p, p.phase)).collect();
+        if let Some(last) = path.last() {
+            points.push(point(last, Phase::Hold));
+            // Unloading: point k is reached by running the loading step k → k+1 backwards,
+            // a reconfiguration when that step was one.
+            for k in (0..path.len().saturating_sub(1)).rev() {
+                let phase = if path[k + 1].phase == Phase::Reconfigure {
+                    Phase::Reconfigure
+                } else {
+                    Phase::Unload
+                };
+                points.push(point(&path[k], phase));
+            }
+        }
         let scale = self.rig.planner.velocity_scale;
         let limits = TimingLimits {
             joint_velocity: self
@@ -723,6 +1029,7 @@ impl Planner {
             motor_velocity: self.rig.motor.max_velocity * scale,
             end_speed: self.rig.planner.end_speed,
             rod_length: self.rig.rod.length,
+            hold_time: self.rig.planner.hold_time,
         };
         time_parametrize(&mut points, &limits)?;
         Ok(Trajectory {
@@ -740,6 +1047,10 @@ pub fn material_from_arm(rig: &Rig, r_arm: &Mat3, m: Real) -> Mat3 {
     let rc = rig.clamp_rotation();
     let p = tool_from_director();
     rc * (rc.transpose() * r_arm * p.transpose()) * rot_z(m)
+}
+
+fn node(q: self_motion::Q, motor: Real) -> Node {
+    Node { q, motor }
 }
 
 /// Greedy farthest-point selection of `k` nodes (max-norm joint distance), starting from the

@@ -148,7 +148,7 @@ pub struct MotorSpec {
 /// Planner settings (the `[planner]` table).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlannerSettings {
-    /// Fraction past the boundary s* to drive the rod (> 0).
+    /// Fraction past the boundary s* to drive the rod (≥ 0; 0 = to the boundary).
     pub margin: Real,
     /// Largest rod-end translation between consecutive waypoints (m).
     pub max_end_step: Real,
@@ -178,6 +178,14 @@ pub struct PlannerSettings {
     pub joint_weights: Vec<Real>,
     /// Weight of the motor step in the edge cost.
     pub motor_weight: Real,
+    /// Allow self-motion reconfiguration at a held pose when advancing in s is blocked
+    /// ([`crate::planning::self_motion`]).
+    pub allow_reconfiguration: bool,
+    /// Largest joint step (max-norm, rad) of the exploration walk along the self-motion manifold
+    /// (its sampling resolution); the executed reconfiguration is resampled finer.
+    pub self_motion_step: Real,
+    /// Time the rod is held at the end of loading before unloading (s).
+    pub hold_time: Real,
 }
 
 impl Default for PlannerSettings {
@@ -205,6 +213,9 @@ impl Default for PlannerSettings {
             velocity_scale: 0.5,
             joint_weights: Vec::new(),
             motor_weight: 0.0,
+            allow_reconfiguration: true,
+            self_motion_step: 0.02,
+            hold_time: 2.0,
         }
     }
 }
@@ -505,6 +516,9 @@ struct RawPlanner {
     velocity_scale: Option<Real>,
     joint_weights: Option<Vec<Real>>,
     motor_weight: Option<Real>,
+    allow_reconfiguration: Option<bool>,
+    self_motion_step: Option<Real>,
+    hold_time: Option<Real>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -725,11 +739,11 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
     let d = PlannerSettings::default();
     let p = raw.planner;
     let margin = c.finite("planner.margin", p.margin.unwrap_or(d.margin))?;
-    if !(margin > 0.0 && margin <= 1.0) {
+    if !(0.0..=1.0).contains(&margin) {
         return Err(c.err(
             "planner.margin",
             margin,
-            "must lie in (0, 1]: the rod must be driven past the boundary to be seen to snap",
+            "must lie in [0, 1] (0: drive exactly to the predicted boundary, as the seed did)",
         ));
     }
     let max_joint_step = c.positive(
@@ -818,7 +832,20 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             "planner.motor_weight",
             p.motor_weight.unwrap_or(d.motor_weight),
         )?,
+        allow_reconfiguration: p.allow_reconfiguration.unwrap_or(d.allow_reconfiguration),
+        self_motion_step: c.positive(
+            "planner.self_motion_step",
+            p.self_motion_step.unwrap_or(d.self_motion_step),
+        )?,
+        hold_time: c.non_negative("planner.hold_time", p.hold_time.unwrap_or(d.hold_time))?,
     };
+    if planner.self_motion_step > max_joint_step {
+        return Err(c.err(
+            "planner.self_motion_step",
+            planner.self_motion_step,
+            &format!("must be ≤ planner.max_joint_step = {max_joint_step}"),
+        ));
+    }
 
     Ok(Rig {
         name: raw.name,
@@ -884,7 +911,7 @@ mod tests {
     #[test]
     fn errors_name_file_field_and_value() {
         let cases = [
-            ("margin = 0.10", "margin = 0.0", "planner.margin"),
+            ("margin = 0.10", "margin = -0.1", "planner.margin"),
             ("length = 0.51", "length = -0.51", "rod.length"),
             ("poisson = 0.33", "poisson = 0.7", "rod.poisson"),
             ("d1 = [0.0, 1.0, 0.0]", "d1 = [0.0, 0.0, 1.0]", "clamp.d1"),

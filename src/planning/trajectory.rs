@@ -1,6 +1,13 @@
 //! Time parametrization of a planned joint + motor path and its writers (CSV and a JSON shaped like
 //! ROS `trajectory_msgs/JointTrajectory`).
 //!
+//! # Phases (the seed's protocol)
+//! A trajectory loads the rod from the straight rod to `s_end` (phase `load`), holds it there
+//! (`hold`: one repeated sample, lasting the rig's `hold_time`), and unloads it back to the
+//! straight rod along the same joint path reversed (`unload`). Self-motion reconfigurations at a
+//! held pose (`reconfigure`, [`crate::planning::self_motion`]) keep s and the rod-end pose
+//! constant; on unloading they are run backwards and stay `reconfigure`.
+//!
 //! # Timing
 //! Segment k (waypoint k → k+1) lasts the shortest time that keeps every limit:
 //!
@@ -10,18 +17,60 @@
 //! motor limit, `v_end` the quasi-static rod-end speed, `Δp` and `Δθ_end` the rod end's translation
 //! and rotation (the rotation converted to a speed through the rod length L). Within a segment the
 //! motion is linear in joint space at constant speed, so every limit holds on the whole segment.
+//! A segment that ends in the `hold` sample lasts at least `hold_time`.
 //! The velocity stored at a waypoint is the mean of its two adjacent segment velocities (zero at
 //! both ends): a convex combination of in-limit values, hence in limit too.
 //!
 //! # Outputs
-//! - CSV: `t,q0..q{n-1},motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz`; the pose is the tool frame in
-//!   the robot base frame, the quaternion scalar first.
+//! - CSV: `t,q0..q{n-1},motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`; the pose is the tool
+//!   frame in the robot base frame, the quaternion scalar first; `phase` is one of `load`,
+//!   `reconfigure`, `hold`, `unload`.
 //! - JSON: `{"header":{"frame_id":…},"joint_names":[…, motor],"points":[{"positions":[…],
-//!   "velocities":[…],"time_from_start":{"secs":…,"nsecs":…}}]}`; the motor is the last joint.
+//!   "velocities":[…],"time_from_start":{"secs":…,"nsecs":…},"phase":…}]}`; the motor is the
+//!   last joint.
 
 use crate::error::{Error, Result};
 use crate::math::{rotation_angle, Iso3, Real};
 use std::fmt::Write as _;
+
+/// The phase of a trajectory sample (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Phase {
+    /// Driving the rod from the straight rod toward `s_end`.
+    #[default]
+    Load,
+    /// Self-motion at a held rod-end pose (s constant).
+    Reconfigure,
+    /// Holding the rod at the end of loading.
+    Hold,
+    /// Driving the rod back to the straight rod along the loading path.
+    Unload,
+}
+
+impl Phase {
+    /// The CSV name (`load`, `reconfigure`, `hold`, `unload`).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Phase::Load => "load",
+            Phase::Reconfigure => "reconfigure",
+            Phase::Hold => "hold",
+            Phase::Unload => "unload",
+        }
+    }
+
+    /// Parse the CSV name.
+    pub fn parse(s: &str) -> Option<Phase> {
+        [Phase::Load, Phase::Reconfigure, Phase::Hold, Phase::Unload]
+            .into_iter()
+            .find(|p| p.as_str() == s)
+    }
+}
+
+impl std::fmt::Display for Phase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// One sample of a trajectory.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,6 +87,8 @@ pub struct TrajectoryPoint {
     pub kto: [Real; 3],
     /// Tool pose (rod end) in the robot base frame.
     pub pose: Iso3,
+    /// Phase of the protocol.
+    pub phase: Phase,
 }
 
 /// A time-parametrized joint + motor trajectory.
@@ -64,20 +115,23 @@ pub struct TimingLimits {
     pub end_speed: Real,
     /// Rod length (m), converting end rotation to a speed.
     pub rod_length: Real,
+    /// Least duration of the segment into a `hold` sample (s).
+    pub hold_time: Real,
 }
 
 /// Fill the times of `points` (the first at t = 0) within `limits`; see the module docs.
 ///
 /// ```
-/// use helixreach::planning::trajectory::{time_parametrize, TimingLimits, TrajectoryPoint};
+/// use helixreach::planning::trajectory::{time_parametrize, Phase, TimingLimits, TrajectoryPoint};
 /// use helixreach::math::Iso3;
-/// let p = |q: f64, m: f64| TrajectoryPoint { t: 0.0, q: vec![q], motor: m, s: 0.0,
-///     kto: [0.0; 3], pose: Iso3::identity() };
-/// let mut pts = vec![p(0.0, 0.0), p(0.5, 0.0), p(0.5, 2.0)];
+/// let p = |q: f64, m: f64, phase| TrajectoryPoint { t: 0.0, q: vec![q], motor: m, s: 0.0,
+///     kto: [0.0; 3], pose: Iso3::identity(), phase };
+/// let mut pts = vec![p(0.0, 0.0, Phase::Load), p(0.5, 0.0, Phase::Load),
+///     p(0.5, 2.0, Phase::Load), p(0.5, 2.0, Phase::Hold)];
 /// let lim = TimingLimits { joint_velocity: vec![1.0], motor_velocity: 4.0, end_speed: 1.0,
-///     rod_length: 1.0 };
+///     rod_length: 1.0, hold_time: 3.0 };
 /// time_parametrize(&mut pts, &lim).unwrap();
-/// assert_eq!([pts[1].t, pts[2].t], [0.5, 1.0]);
+/// assert_eq!([pts[1].t, pts[2].t, pts[3].t], [0.5, 1.0, 4.0]);
 /// ```
 pub fn time_parametrize(points: &mut [TrajectoryPoint], limits: &TimingLimits) -> Result<()> {
     for (j, v) in limits.joint_velocity.iter().enumerate() {
@@ -97,6 +151,13 @@ pub fn time_parametrize(points: &mut [TrajectoryPoint], limits: &TimingLimits) -
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::invalid(name, v, "must be finite and > 0"));
         }
+    }
+    if !(limits.hold_time.is_finite() && limits.hold_time >= 0.0) {
+        return Err(Error::invalid(
+            "hold time",
+            limits.hold_time,
+            "must be finite and >= 0",
+        ));
     }
     if let Some(first) = points.first_mut() {
         first.t = 0.0;
@@ -123,6 +184,9 @@ pub fn time_parametrize(points: &mut [TrajectoryPoint], limits: &TimingLimits) -
         );
         dt = dt.max(dp / limits.end_speed);
         dt = dt.max(dr * limits.rod_length / limits.end_speed);
+        if b.phase == Phase::Hold && a.phase != Phase::Hold {
+            dt = dt.max(limits.hold_time);
+        }
         if !dt.is_finite() {
             return Err(Error::invalid(
                 "trajectory segment",
@@ -184,7 +248,7 @@ impl Trajectory {
         for j in 0..dof {
             let _ = write!(s, ",q{j}");
         }
-        s.push_str(",motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz\n");
+        s.push_str(",motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase\n");
         for p in &self.points {
             let _ = write!(s, "{}", p.t);
             for q in &p.q {
@@ -194,8 +258,20 @@ impl Trajectory {
             let r = p.pose.rotation.quaternion();
             let _ = writeln!(
                 s,
-                ",{},{},{},{},{},{},{},{},{},{},{},{}",
-                p.motor, p.s, p.kto[0], p.kto[1], p.kto[2], tr.x, tr.y, tr.z, r.w, r.i, r.j, r.k
+                ",{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                p.motor,
+                p.s,
+                p.kto[0],
+                p.kto[1],
+                p.kto[2],
+                tr.x,
+                tr.y,
+                tr.z,
+                r.w,
+                r.i,
+                r.j,
+                r.k,
+                p.phase
             );
         }
         s
@@ -219,6 +295,7 @@ impl Trajectory {
                     "positions": pos,
                     "velocities": v,
                     "time_from_start": {"secs": secs as i64, "nsecs": nsecs as i64},
+                    "phase": p.phase.as_str(),
                 })
             })
             .collect();
@@ -252,6 +329,7 @@ mod tests {
                 Vec3::new(x, 0.0, 0.0).into(),
                 Quat::from_axis_angle(&Vec3::z_axis(), a),
             ),
+            phase: Phase::Load,
         }
     }
 
@@ -262,6 +340,7 @@ mod tests {
             motor_velocity: 3.0,
             end_speed: 0.01,
             rod_length: 0.5,
+            hold_time: 0.0,
         };
         let mut pts = vec![
             pt([0.0, 0.0], 0.0, 0.0, 0.0),
@@ -288,7 +367,8 @@ mod tests {
             );
         }
         let csv = traj.to_csv();
-        assert!(csv.starts_with("t,q0,q1,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz\n"));
+        assert!(csv.starts_with("t,q0,q1,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase\n"));
+        assert!(csv.lines().nth(1).unwrap().ends_with(",load"));
         assert_eq!(csv.lines().count(), 7);
         let json: serde_json::Value = serde_json::from_str(&traj.to_json()).unwrap();
         assert_eq!(json["joint_names"][2], "rod_motor");
@@ -312,6 +392,7 @@ mod tests {
             motor_velocity: 3.0,
             end_speed: 0.01,
             rod_length: 0.5,
+            hold_time: 1.0,
         };
         assert!(time_parametrize(&mut pts, &lim).is_err());
     }

@@ -4,7 +4,8 @@
 //! over directions only, rows in input order (bitwise identical for any thread count),
 //! checkpointed, resumable, shardable, atomic output.
 //!
-//! Columns: [`REACH_HEADER`]. An unreachable direction is a `blocked` row with its cause, never an
+//! Columns: [`REACH_HEADER`] (`reconfigurations`: self-motion reconfigurations at a held pose on
+//! the path, see [`crate::planning::planner`]). An unreachable direction is a `blocked` row with its cause, never an
 //! error; only a failure of the boundary computation or of the planner's input aborts the sweep.
 //!
 //! The boundary s* of each direction comes from the continuum conjugate-point test
@@ -22,7 +23,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 /// Columns of the `reach` CSV.
-pub const REACH_HEADER: [&str; 12] = [
+pub const REACH_HEADER: [&str; 13] = [
     "dir_kappa",
     "dir_tau",
     "dir_omega",
@@ -35,6 +36,7 @@ pub const REACH_HEADER: [&str; 12] = [
     "n_waypoints",
     "path_cost",
     "max_joint_step",
+    "reconfigurations",
 ];
 
 /// s* per direction read from a boundary CSV (`dir_kappa,dir_tau,dir_omega,s_star`, `inf`
@@ -147,6 +149,7 @@ pub fn reach_row(p: &RayPlan) -> Row {
         p.n_waypoints.to_string(),
         fmt_real(p.path_cost),
         fmt_real(p.max_joint_step),
+        p.reconfigurations.to_string(),
     ]
 }
 

@@ -386,9 +386,7 @@ fn reach_stage(run: &mut Run) -> anyhow::Result<Outcome> {
     ];
     let mut all = Vec::new();
     let mut all_fan = Vec::new();
-    let mut csv = String::from(
-        "dir_kappa,dir_tau,dir_omega,s_star,s_reached,class,cause,azimuth,roll_mode,n_waypoints,path_cost,max_joint_step\n",
-    );
+    let mut csv = format!("{}\n", reach::REACH_HEADER.join(","));
     let mut fan_csv = csv.clone();
     let mut m = Map::new();
     for (label, roll, azimuths) in &variants {

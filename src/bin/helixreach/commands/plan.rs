@@ -1,9 +1,11 @@
 //! `helixreach plan`: plan one ray on a rig and write its time-parametrized joint + motor
-//! trajectory (CSV, and optionally a JSON shaped like ROS `trajectory_msgs/JointTrajectory`).
+//! trajectory (CSV, and optionally a JSON shaped like ROS `trajectory_msgs/JointTrajectory`):
+//! load to s*·(1 + margin), hold, unload along the same path (a `phase` column marks them and the
+//! self-motion reconfigurations).
 
 use anyhow::Context;
 use helixreach::directions::Direction;
-use helixreach::planning::planner::Planner;
+use helixreach::planning::planner::{Planner, RigOverrides};
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::sweep::reach::s_star_of;
 use std::path::PathBuf;
@@ -30,6 +32,16 @@ pub struct Args {
     /// most the rig's `max_waypoints`.
     #[arg(long)]
     pub waypoints: Option<usize>,
+    /// Drive the rod to s*·(1 + M) (overrides the rig's `planner.margin`; 0 = to the boundary).
+    #[arg(long)]
+    pub margin: Option<f64>,
+    /// Clamp position `x,y,z` in the robot base frame (m), overriding the rig's `clamp.origin`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub clamp: Option<String>,
+    /// Forbid self-motion reconfiguration at a held pose (overrides the rig's
+    /// `planner.allow_reconfiguration`).
+    #[arg(long)]
+    pub no_reconfiguration: bool,
     /// Output trajectory CSV.
     #[arg(long)]
     pub out: PathBuf,
@@ -51,6 +63,31 @@ fn parse_direction(s: &str) -> anyhow::Result<Direction> {
     Ok(Direction::new(v[0], v[1], v[2])?)
 }
 
+/// Parse `x,y,z` (three numbers; `nan`/`inf` parse and are rejected by the consumer, which
+/// names the field).
+pub fn parse_triple(flag: &str, s: &str) -> anyhow::Result<[f64; 3]> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{flag} `{s}`: expected three numbers x,y,z"))?;
+    anyhow::ensure!(v.len() == 3, "{flag} `{s}`: expected three numbers x,y,z");
+    Ok([v[0], v[1], v[2]])
+}
+
+/// The rig overrides of `--margin`, `--clamp` and `--no-reconfiguration`.
+pub fn overrides(
+    margin: Option<f64>,
+    clamp: Option<&str>,
+    no_reconfiguration: bool,
+) -> anyhow::Result<RigOverrides> {
+    Ok(RigOverrides {
+        margin,
+        clamp: clamp.map(|c| parse_triple("--clamp", c)).transpose()?,
+        allow_reconfiguration: no_reconfiguration.then_some(false),
+    })
+}
+
 /// Run `helixreach plan`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     helixreach::io::check_output(&args.out)?;
@@ -58,7 +95,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         helixreach::io::check_output(j)?;
     }
     let dir = parse_direction(&args.direction)?;
-    let mut rig = Rig::load(&args.rig)?;
+    let rig = Rig::load(&args.rig)?;
+    let mut rig = overrides(args.margin, args.clamp.as_deref(), args.no_reconfiguration)?
+        .apply(&rig)
+        .context("--margin / --clamp")?;
     if let Some(n) = args.waypoints {
         let max = rig.planner.max_waypoints;
         anyhow::ensure!(
@@ -88,7 +128,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     eprintln!(
         "{}: s* = {}, s_reached = {} of {} ({} of {} waypoints), cause {}, azimuth {}, roll {}, \
-         cost {:.4}, max joint step {:.4} rad, duration {:.1} s; planned in {:.3} s",
+         {} reconfigurations, cost {:.4}, max joint step {:.4} rad, duration {:.1} s \
+         (load, hold, unload); planned in {:.3} s",
         plan.class.as_str(),
         plan.s_star,
         plan.s_reached,
@@ -98,6 +139,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         plan.cause.map_or("-", |c| c.as_str()),
         plan.azimuth,
         plan.roll,
+        plan.reconfigurations,
         plan.path_cost,
         plan.max_joint_step,
         traj.duration(),

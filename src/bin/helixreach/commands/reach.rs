@@ -33,6 +33,16 @@ pub struct Args {
     /// azimuth choices).
     #[arg(long)]
     pub azimuths: Option<usize>,
+    /// Drive the rod to s*·(1 + M) (overrides the rig's `planner.margin`; 0 = to the boundary).
+    #[arg(long)]
+    pub margin: Option<f64>,
+    /// Clamp position `x,y,z` in the robot base frame (m), overriding the rig's `clamp.origin`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub clamp: Option<String>,
+    /// Forbid self-motion reconfiguration at a held pose (overrides the rig's
+    /// `planner.allow_reconfiguration`).
+    #[arg(long)]
+    pub no_reconfiguration: bool,
     /// Process only shard I/N (0-based) of the directions.
     #[arg(long)]
     pub shard: Option<Shard>,
@@ -75,7 +85,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (None, Some(p)) => read_csv(p)?,
         _ => anyhow::bail!("give exactly one of --fibonacci N or --directions FILE"),
     };
-    let rig = Rig::load(&args.rig)?;
+    let rig = super::plan::overrides(args.margin, args.clamp.as_deref(), args.no_reconfiguration)?
+        .apply(&Rig::load(&args.rig)?)
+        .map_err(|e| anyhow::anyhow!("--margin / --clamp: {e}"))?;
     let opts = ReachOptions {
         roll: args.roll.unwrap_or(rig.roll),
         azimuths: match args.azimuths {

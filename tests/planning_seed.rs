@@ -1,0 +1,386 @@
+//! Reachability you can trust (issue 10), planner side:
+//!
+//! - the seed experiment's 58 executed directions, each with its own clamp, at margin 0 in roll
+//!   `fixed` (the real robot drove them all): the testable fraction;
+//! - monotone answers per direction (motor ≥ fixed, more azimuths, more samples, reconfiguration
+//!   allowed never reach less);
+//! - an independent dense reference (fresh IK on a fine redundancy grid at every waypoint,
+//!   forward reachability with self-motion closure checked by bisection to the step bound): the
+//!   planner finds every ray the reference finds.
+//!
+//! The seed data is read from `../shared/seed-data/` relative to the crate root.
+
+use helixreach::directions::Direction;
+use helixreach::helix::{discrete, Helix};
+use helixreach::math::{rot_z, Mat3, Real, Vec3};
+use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
+use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
+use helixreach::robot::collision::RodGeometry;
+use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+fn seed_dir() -> PathBuf {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data");
+    assert!(
+        p.join("trajectories.csv").is_file(),
+        "seed data missing: {} (CI keeps shared/ beside the clone)",
+        p.display()
+    );
+    p
+}
+
+/// One run of the seed: direction and its clamp position.
+struct SeedRun {
+    file: String,
+    dir: Direction,
+    clamp: [Real; 3],
+}
+
+fn seed_runs() -> Vec<SeedRun> {
+    let path = seed_dir().join("trajectories.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("{}: no column {name}", path.display()))
+    };
+    let c = [
+        col("dir_kappa"),
+        col("dir_tau"),
+        col("dir_omega"),
+        col("clamp_x"),
+        col("clamp_y"),
+        col("clamp_z"),
+    ];
+    let file = col("file");
+    lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let v: Vec<Real> = c.iter().map(|&i| f[i].parse().unwrap()).collect();
+            SeedRun {
+                file: f[file].to_string(),
+                dir: Direction::new(v[0], v[1], v[2]).unwrap(),
+                clamp: [v[3], v[4], v[5]],
+            }
+        })
+        .collect()
+}
+
+fn s_star(d: &Direction) -> Real {
+    helixreach::boundary::continuum::critical_s(d, 1e-10)
+        .unwrap()
+        .s_star
+}
+
+/// A planner per distinct clamp position (key: whole micrometres).
+fn planners_by_clamp(
+    runs: &[SeedRun],
+    margin: Real,
+) -> BTreeMap<[i64; 3], Planner> {
+    let rig = Rig::load("sawyer-seed").unwrap();
+    let mut keys: Vec<[i64; 3]> = runs.iter().map(|r| key(r.clamp)).collect();
+    keys.sort();
+    keys.dedup();
+    keys.into_par_iter()
+        .map(|k| {
+            let o = RigOverrides {
+                margin: Some(margin),
+                clamp: Some([k[0] as Real * 1e-6, k[1] as Real * 1e-6, k[2] as Real * 1e-6]),
+                allow_reconfiguration: None,
+            };
+            (k, Planner::new(o.apply(&rig).unwrap()).unwrap())
+        })
+        .collect()
+}
+
+fn key(c: [Real; 3]) -> [i64; 3] {
+    c.map(|x| (x * 1e6).round() as i64)
+}
+
+/// The seed's 58 directions, each with its own clamp, margin 0, roll `fixed`: the real robot
+/// drove every one of them, so the planner should find (nearly) every one testable.
+#[test]
+fn seed_directions_are_testable_with_their_own_clamps() {
+    let runs = seed_runs();
+    assert_eq!(runs.len(), 58);
+    let planners = planners_by_clamp(&runs, 0.0);
+    let plans: Vec<_> = runs
+        .par_iter()
+        .map(|r| {
+            let p = &planners[&key(r.clamp)];
+            p.plan_ray(&r.dir, s_star(&r.dir), 0.0, RollMode::Fixed, false)
+                .unwrap()
+        })
+        .collect();
+    let testable = plans
+        .iter()
+        .filter(|p| p.class == ReachClass::Testable)
+        .count();
+    let reconf: usize = plans.iter().map(|p| p.reconfigurations).sum();
+    for (r, p) in runs.iter().zip(&plans) {
+        if p.class != ReachClass::Testable {
+            eprintln!(
+                "{}: {} at s = {:.3} of {:.3}, cause {:?}",
+                r.file,
+                p.class.as_str(),
+                p.s_reached,
+                p.s_end,
+                p.cause
+            );
+        }
+    }
+    eprintln!(
+        "seed directions (margin 0, roll fixed, own clamps): {testable} of {} testable, \
+         {reconf} reconfigurations",
+        runs.len()
+    );
+    assert!(
+        testable as Real >= 0.95 * runs.len() as Real,
+        "{testable} of {} seed directions testable (goal ≥ 95 %)",
+        runs.len()
+    );
+}
+
+/// Monotone answers, per direction: roll `motor` reaches at least as far as `fixed`; a
+/// superset of azimuths, more start samples, or reconfiguration allowed never reach less.
+#[test]
+fn answers_are_monotone_per_direction() {
+    let rig = Rig::load("sawyer-seed").unwrap();
+    let base = Planner::new(rig.clone()).unwrap();
+    let mut no_reconf = rig.clone();
+    no_reconf.planner.allow_reconfiguration = false;
+    let no_reconf = Planner::new(no_reconf).unwrap();
+    let mut more = rig.clone();
+    more.planner.redundancy_samples *= 2;
+    let more = Planner::new(more).unwrap();
+    // Every 40th direction of the quarter-sphere lattice.
+    let dirs: Vec<Direction> = helixreach::directions::fibonacci(400, true)
+        .unwrap()
+        .into_iter()
+        .step_by(40)
+        .collect();
+    let a1 = azimuth_grid(1);
+    let a4 = azimuth_grid(4);
+    let rows: Vec<[Real; 6]> = dirs
+        .par_iter()
+        .map(|d| {
+            let s = s_star(d);
+            let reach = |p: &Planner, az: &[Real], roll| {
+                p.plan_best(d, s, az, roll, false).unwrap().s_reached
+            };
+            [
+                reach(&base, &a1, RollMode::Fixed),
+                reach(&base, &a1, RollMode::Motor),
+                reach(&base, &a4, RollMode::Fixed),
+                reach(&no_reconf, &a1, RollMode::Fixed),
+                reach(&more, &a1, RollMode::Fixed),
+                s,
+            ]
+        })
+        .collect();
+    for (d, r) in dirs.iter().zip(&rows) {
+        let [fixed, motor, az4, norec, more, _] = *r;
+        let ctx = format!("{d:?}: {r:?}");
+        assert!(motor >= fixed, "motor < fixed: {ctx}");
+        assert!(az4 >= fixed, "4 azimuths < 1: {ctx}");
+        assert!(fixed >= norec, "reconfiguration reached less: {ctx}");
+        assert!(more >= fixed, "more samples reached less: {ctx}");
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// The dense reference.
+
+/// P = [e2 e1 −e3] (tool x = d2, y = d1, z = −d3).
+fn p_matrix() -> Mat3 {
+    Mat3::from_columns(&[Vec3::y(), Vec3::x(), -Vec3::z()])
+}
+
+/// Dense forward reachability of one ray at azimuth 0, roll `fixed` (see the module docs).
+/// Waypoints uniform in s (poses from the helix module and the rig's frames, not from the
+/// planner's pose path); at each, fresh IK with j0 locked on a grid of `grid` rad plus free
+/// restarts; a configuration is valid when it is collision-free (self, scene, rod of that
+/// waypoint). Reachable set R_{k+1}: valid configurations within one joint step of the
+/// self-motion closure of R_k, the joint-linear segment collision-free. The closure joins
+/// valid configurations of one waypoint through self-motion: two are joined when bisection
+/// (midpoints projected onto the held pose by IK, each valid) reaches pieces no longer than the
+/// step bound, every piece's segment collision-free. Returns whether the last waypoint is reached.
+fn reference_reaches(planner: &Planner, d: &Direction, n_wp: usize, grid: Real) -> bool {
+    let rig = planner.rig();
+    let model = planner.model();
+    let dof = model.dof();
+    let step = rig.planner.max_joint_step;
+    let mut cm = CollisionModel::for_model(model).unwrap();
+    cm.set_obstacles(&rig.obstacles).unwrap();
+    let mut ws = cm.workspace();
+    let (lo, hi) = (model.lower(), model.upper());
+    let lock_values: Vec<Real> = {
+        let n = ((hi[0] - lo[0]) / grid).floor() as usize;
+        (0..=n).map(|i| lo[0] + i as Real * grid).collect()
+    };
+    let solver = IkSolver::new(
+        model,
+        IkParams {
+            redundancy_joint: Some(0),
+            lock_values,
+            restarts: 60,
+            lock_seeds: 6,
+            ..IkParams::default()
+        },
+    )
+    .unwrap();
+    let s_end = s_star(d) * (1.0 + rig.planner.margin);
+    let c = 1.0 / (1.0 + rig.rod.poisson);
+    let tool_inv = Frame::from_iso(&rig.tool).inverse();
+    let rc = rig.clamp_rotation();
+    let oc = rig.clamp.translation.vector;
+    let l = rig.rod.length;
+    let dist = |a: &[Real], b: &[Real]| (0..dof).map(|j| (a[j] - b[j]).abs()).fold(0.0, Real::max);
+    let mut reach: Vec<Vec<Real>> = Vec::new();
+    for k in 0..n_wp {
+        let s = s_end * k as Real / (n_wp - 1) as Real;
+        let h = Helix::new(s * d.kappa, s * d.tau, s * d.omega).unwrap();
+        let e = h.end_pose(l, rig.rod.poisson).unwrap();
+        let _ = c;
+        let tool = Frame {
+            rot: rc * e.transported * p_matrix(),
+            pos: oc + rc * (rot_z(0.0) * e.position),
+        };
+        let tip = tool.mul(&tool_inv);
+        let target = IkTarget::Pose(tip);
+        let nodes: Vec<Vec3> = discrete::nodes(&h, rig.planner.rod_capsules)
+            .into_iter()
+            .map(|x| oc + rc * (x * l))
+            .collect();
+        let rod = RodGeometry {
+            nodes: &nodes,
+            radius: rig.rod.radius + rig.planner.rod_clearance,
+            ignore_near_tool: rig.planner.rod_end_exclusion,
+            ignore_near_clamp: 0.0,
+            against_scene: false,
+        };
+        let mut valid = |q: &[Real]| cm.check(q, &mut ws, Some(&rod)).is_none();
+        // Fresh IK, seeded also with the reachable set (so its continuations are not missed).
+        let seeds: Vec<&[Real]> = reach.iter().map(|q| q.as_slice()).collect();
+        let cand: Vec<Vec<Real>> = solver
+            .solve_all(&target, &seeds)
+            .into_iter()
+            .map(|s| s.joints().to_vec())
+            .filter(|q| valid(q))
+            .collect();
+        let seg_ok = |a: &[Real], b: &[Real], valid: &mut dyn FnMut(&[Real]) -> bool| {
+            let n = (dist(a, b) / 0.01).ceil() as usize;
+            (1..n).all(|i| {
+                let t = i as Real / n as Real;
+                let q: Vec<Real> = (0..dof).map(|j| a[j] + t * (b[j] - a[j])).collect();
+                valid(&q)
+            })
+        };
+        // Forward step.
+        let mut r: Vec<bool> = if k == 0 {
+            vec![true; cand.len()]
+        } else {
+            cand.iter()
+                .map(|q| {
+                    reach
+                        .iter()
+                        .any(|p| dist(p, q) <= step && seg_ok(p, q, &mut valid))
+                })
+                .collect()
+        };
+        // Self-motion closure at this held pose (fixed point over the candidates).
+        let joined = |a: &[Real], b: &[Real], valid: &mut dyn FnMut(&[Real]) -> bool| -> bool {
+            let mut stack = vec![(a.to_vec(), b.to_vec(), 0u32)];
+            while let Some((x, y, depth)) = stack.pop() {
+                let dxy = dist(&x, &y);
+                if dxy <= step {
+                    if !seg_ok(&x, &y, valid) {
+                        return false;
+                    }
+                    continue;
+                }
+                if depth > 8 {
+                    return false;
+                }
+                let mid: Vec<Real> = (0..dof).map(|j| 0.5 * (x[j] + y[j])).collect();
+                let Some(m) = solver.track(&target, &mid, None) else {
+                    return false;
+                };
+                let m = m.joints().to_vec();
+                if !valid(&m) || dist(&m, &x) >= dxy || dist(&m, &y) >= dxy {
+                    return false;
+                }
+                stack.push((m.clone(), y, depth + 1));
+                stack.push((x, m, depth + 1));
+            }
+            true
+        };
+        loop {
+            let mut changed = false;
+            for i in 0..cand.len() {
+                if r[i] {
+                    continue;
+                }
+                let hit = (0..cand.len()).any(|j| {
+                    r[j] && dist(&cand[i], &cand[j]) <= 4.0 * grid.max(step)
+                        && joined(&cand[j], &cand[i], &mut valid)
+                });
+                if hit {
+                    r[i] = true;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        reach = cand
+            .into_iter()
+            .zip(r)
+            .filter_map(|(q, ok)| ok.then_some(q))
+            .collect();
+        if reach.is_empty() {
+            return false;
+        }
+        assert!(reach.iter().all(|q| q.len() == dof && dof <= MAX_DOF));
+    }
+    true
+}
+
+/// The planner finds every ray the dense reference finds (roll `fixed`, azimuth 0).
+#[test]
+fn planner_finds_every_ray_the_dense_reference_finds() {
+    let planner = Planner::new(Rig::load("sawyer-seed").unwrap()).unwrap();
+    let dirs: Vec<Direction> = helixreach::directions::fibonacci(2000, true)
+        .unwrap()
+        .into_iter()
+        .step_by(250)
+        .collect();
+    let res: Vec<(bool, bool)> = dirs
+        .par_iter()
+        .map(|d| {
+            let r = reference_reaches(&planner, d, 48, 0.05);
+            let p = planner
+                .plan_ray(d, s_star(d), 0.0, RollMode::Fixed, false)
+                .unwrap();
+            (r, p.class == ReachClass::Testable)
+        })
+        .collect();
+    let n_ref = res.iter().filter(|r| r.0).count();
+    let n_plan = res.iter().filter(|r| r.1).count();
+    eprintln!(
+        "dense reference: {n_ref} of {} rays; planner: {n_plan} of {}",
+        dirs.len(),
+        dirs.len()
+    );
+    for (d, (r, p)) in dirs.iter().zip(&res) {
+        assert!(!r || *p, "{d:?}: the reference reaches it, the planner does not");
+    }
+    assert!(n_ref > 0, "the reference found no ray: the comparison says nothing");
+}
