@@ -145,7 +145,11 @@ fn verify(planner: &Planner, plan: &RayPlan) {
                 Phase::Load => assert!(w.s > path[k - 1].waypoint.s, "s must increase"),
                 Phase::Reconfigure => {
                     // s constant, and the rod end stays put along the joint-linear chord.
-                    assert_eq!(w.s, path[k - 1].waypoint.s, "s constant while reconfiguring");
+                    assert_eq!(
+                        w.s,
+                        path[k - 1].waypoint.s,
+                        "s constant while reconfiguring"
+                    );
                     for i in 1..8 {
                         let t = i as Real / 8.0;
                         let q: Vec<Real> = (0..dof).map(|j| a[j] + t * (pt.q[j] - a[j])).collect();
@@ -157,7 +161,11 @@ fn verify(planner: &Planner, plan: &RayPlan) {
                             RollMode::Motor => assert!(dp <= 1e-6, "{dp:e}"),
                         }
                     }
-                    assert_eq!(pt.motor, path[k - 1].motor, "the motor holds while reconfiguring");
+                    assert_eq!(
+                        pt.motor,
+                        path[k - 1].motor,
+                        "the motor holds while reconfiguring"
+                    );
                 }
                 _ => panic!("phase {} in a planned path", pt.phase),
             }
@@ -404,5 +412,7 @@ fn the_verifier_catches_corrupted_paths() {
     assert!(corrupt(&|p| p.path.as_mut().unwrap()[5].q[3] += 1e-3));
     assert!(corrupt(&|p| p.path.as_mut().unwrap()[7].motor += 1e-3));
     assert!(corrupt(&|p| p.azimuth += 1e-3));
-    assert!(corrupt(&|p| p.path.as_mut().unwrap()[6].phase = Phase::Reconfigure));
+    assert!(corrupt(
+        &|p| p.path.as_mut().unwrap()[6].phase = Phase::Reconfigure
+    ));
 }

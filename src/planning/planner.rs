@@ -4,7 +4,12 @@
 //! # Rungs
 //! - **Start** (s = 0, the straight rod — the same pose for every ray and azimuth): a diverse set
 //!   of fresh IK solutions, [`IkSolver::solve_all`] with the redundancy joint locked at
-//!   `redundancy_samples` values, computed once per roll mode and cached.
+//!   `redundancy_samples` values, computed once per roll mode and cached. The valid solutions
+//!   are grouped by connected valid self-motion component (walks at the held straight-rod pose,
+//!   [`crate::planning::self_motion`]); the first rung is the `redundancy_samples` most diverse
+//!   solutions, and every component it misses gets its own start rung. A ray that is not
+//!   testable from the first rung is planned again from each further component, and the
+//!   farthest plan is kept.
 //! - **Waypoint k+1**: every node of rung k is tracked to the new pose by one Levenberg–Marquardt
 //!   run seeded at its joints ([`IkSolver::track`]: minimum-norm steps, so the track follows the
 //!   self-motion manifold continuously). When the rung is thinner than `redundancy_samples`, new
@@ -188,6 +193,14 @@ impl RigOverrides {
     }
 }
 
+/// The start rungs of one roll mode: the diverse first rung, and one rung per further connected
+/// valid self-motion component of the straight rod's pose that the first rung does not touch.
+#[derive(Debug, Clone)]
+struct StartSet {
+    first: Vec<Node>,
+    others: Vec<Vec<Node>>,
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Node {
     q: [Real; MAX_DOF],
@@ -206,8 +219,8 @@ pub struct Planner {
     dof: usize,
     red_joint: usize,
     weights: [Real; MAX_DOF],
-    start_fixed: OnceLock<std::result::Result<Vec<Node>, CauseCounts>>,
-    start_motor: OnceLock<std::result::Result<Vec<Node>, CauseCounts>>,
+    start_fixed: OnceLock<std::result::Result<StartSet, CauseCounts>>,
+    start_motor: OnceLock<std::result::Result<StartSet, CauseCounts>>,
 }
 
 fn cause_of(c: &Contact) -> BlockCause {
@@ -403,7 +416,7 @@ impl Planner {
 
     /// The start rung (straight rod) for `roll`, cached; `Err` with the rejection counts when no
     /// start configuration is valid.
-    fn start(&self, roll: RollMode) -> std::result::Result<&Vec<Node>, CauseCounts> {
+    fn start(&self, roll: RollMode) -> std::result::Result<&StartSet, CauseCounts> {
         let cell = match roll {
             RollMode::Fixed => &self.start_fixed,
             RollMode::Motor => &self.start_motor,
@@ -413,7 +426,7 @@ impl Planner {
             .map_err(|c| *c)
     }
 
-    fn compute_start(&self, roll: RollMode) -> std::result::Result<Vec<Node>, CauseCounts> {
+    fn compute_start(&self, roll: RollMode) -> std::result::Result<StartSet, CauseCounts> {
         let mut sc = self.new_scratch();
         let straight = [0.0; 3];
         let mut causes = CauseCounts::default();
@@ -471,11 +484,88 @@ impl Planner {
         if out.is_empty() {
             return Err(causes);
         }
-        Ok(farthest_points(
-            out,
-            self.rig.planner.redundancy_samples,
-            self.dof,
-        ))
+        let k = self.rig.planner.redundancy_samples;
+        let first_idx = farthest_indices(&out, k, self.dof);
+        // Label the valid solutions by connected valid self-motion component (walks at the
+        // straight rod's pose); components the first rung misses become further start rungs.
+        let label = self.components(&out, &mut sc);
+        let mut others = Vec::new();
+        let n_labels = label.iter().copied().max().map_or(0, |m| m + 1);
+        for l in 0..n_labels {
+            if first_idx.iter().any(|&i| label[i] == l) {
+                continue;
+            }
+            let comp: Vec<Node> = (0..out.len())
+                .filter(|&i| label[i] == l)
+                .map(|i| out[i])
+                .collect();
+            let idx = farthest_indices(&comp, k, self.dof);
+            others.push(idx.into_iter().map(|i| comp[i]).collect());
+        }
+        Ok(StartSet {
+            first: first_idx.into_iter().map(|i| out[i]).collect(),
+            others,
+        })
+    }
+
+    /// Component labels (0, 1, …) of valid configurations that hold one tool pose (`sc.rod`
+    /// holds the rod): two share a label when a self-motion walk from one passes
+    /// within half a joint step of the other. Without 7 joints every node is its own component.
+    fn components(&self, nodes: &[Node], sc: &mut Scratch) -> Vec<usize> {
+        let mut label = vec![usize::MAX; nodes.len()];
+        let Ok(solver) = IkSolver::new(&self.model, self.ik.clone()) else {
+            return (0..nodes.len()).collect();
+        };
+        let p = &self.rig.planner;
+        let settings = WalkSettings {
+            max_step: p.self_motion_step,
+            min_step: 1e-4,
+            joint_step_bound: p.max_joint_step,
+            max_samples: MAX_WALK_SAMPLES,
+        };
+        let mut next = 0;
+        for i in 0..nodes.len() {
+            if label[i] != usize::MAX {
+                continue;
+            }
+            label[i] = next;
+            if self.dof == 7 {
+                let held = Held {
+                    chain: self.model.chain(),
+                    solver: &solver,
+                    tip: self.model.chain().tool_pose(&nodes[i].q[..self.dof]),
+                    dof: self.dof,
+                };
+                let motor = nodes[i].motor;
+                for sign in [1.0, -1.0] {
+                    let (samples, _) = self_motion::walk(
+                        &held,
+                        &nodes[i].q,
+                        sign,
+                        &settings,
+                        |a, b| {
+                            self.check_config(&b[..self.dof], sc).is_ok()
+                                && self
+                                    .check_segment(&node(*a, motor), &node(*b, motor), sc)
+                                    .is_ok()
+                        },
+                        |_| false,
+                    );
+                    for (j, n) in nodes.iter().enumerate() {
+                        if label[j] == usize::MAX
+                            && samples.iter().any(|q| {
+                                (0..self.dof)
+                                    .all(|d| (q[d] - n.q[d]).abs() <= 0.5 * p.max_joint_step)
+                            })
+                        {
+                            label[j] = next;
+                        }
+                    }
+                }
+            }
+            next += 1;
+        }
+        label
     }
 
     fn edge_cost(&self, a: &Node, b: &Node) -> Option<Real> {
@@ -537,6 +627,8 @@ impl Planner {
         }
     }
 
+    /// Plan from the first start rung; when that is not testable, from each further start
+    /// component in turn, keeping the farthest (the first testable ends the search).
     fn plan_ray_in(
         &self,
         dir: &Direction,
@@ -544,6 +636,30 @@ impl Planner {
         azimuth: Real,
         roll: RollMode,
         want_path: bool,
+    ) -> Result<RayPlan> {
+        let set = self.start(roll).ok();
+        let first = set.map_or(&[][..], |s| &s.first[..]);
+        let mut best = self.plan_from(dir, s_star, azimuth, roll, want_path, first)?;
+        for group in set.map_or(&[][..], |s| &s.others[..]) {
+            if best.class == ReachClass::Testable {
+                break;
+            }
+            let p = self.plan_from(dir, s_star, azimuth, roll, want_path, group)?;
+            if p.s_reached > best.s_reached {
+                best = p;
+            }
+        }
+        Ok(best)
+    }
+
+    fn plan_from(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+        start: &[Node],
     ) -> Result<RayPlan> {
         if s_star.is_nan() || s_star <= 0.0 {
             return Err(Error::invalid("s_star", s_star, "must be > 0 (or +inf)"));
@@ -575,17 +691,14 @@ impl Planner {
             max_joint_step: 0.0,
             path: None,
         };
-        let start = match self.start(roll) {
-            Ok(s) => s,
-            Err(c) => {
-                plan.cause = Some(c.dominant().unwrap_or(BlockCause::NoIk));
-                return Ok(plan);
-            }
-        };
+        if let Err(c) = self.start(roll) {
+            plan.cause = Some(c.dominant().unwrap_or(BlockCause::NoIk));
+            return Ok(plan);
+        }
         let mut sc = self.new_scratch();
         let solver = IkSolver::new(&self.model, self.ik.clone())?;
         let mut ladder: Ladder<Node> = Ladder::new();
-        ladder.push_first(start.clone());
+        ladder.push_first(start.to_vec());
         let map = PoseMap::new(&self.rig, azimuth);
         // Finished pieces of the path (before the current ladder): nodes with their waypoints
         // and phases, and their cost.
@@ -771,7 +884,14 @@ impl Planner {
                                 .is_ok()
                     },
                     |q| {
-                        found = self.advance(&node(*q, motor), next, &next_target, roll, solver, &mut sn);
+                        found = self.advance(
+                            &node(*q, motor),
+                            next,
+                            &next_target,
+                            roll,
+                            solver,
+                            &mut sn,
+                        );
                         found.is_some()
                     },
                 );
@@ -791,8 +911,9 @@ impl Planner {
                 for q in &fine {
                     let (a, b) = (node(prev_q, motor), node(*q, motor));
                     match self.edge_cost(&a, &b) {
-                        Some(c) if self.check_config(&q[..self.dof], &mut sh).is_ok()
-                            && self.check_segment(&a, &b, &mut sh).is_ok() =>
+                        Some(c)
+                            if self.check_config(&q[..self.dof], &mut sh).is_ok()
+                                && self.check_segment(&a, &b, &mut sh).is_ok() =>
                         {
                             cost += c;
                         }
@@ -1054,10 +1175,11 @@ fn node(q: self_motion::Q, motor: Real) -> Node {
 }
 
 /// Greedy farthest-point selection of `k` nodes (max-norm joint distance), starting from the
-/// first: deterministic, and spreads the start rung over the self-motion manifold.
-fn farthest_points(nodes: Vec<Node>, k: usize, dof: usize) -> Vec<Node> {
+/// first: deterministic, and spreads the start rung over the self-motion manifold. Returns
+/// sorted indices.
+fn farthest_indices(nodes: &[Node], k: usize, dof: usize) -> Vec<usize> {
     if nodes.len() <= k {
-        return nodes;
+        return (0..nodes.len()).collect();
     }
     let dist = |a: &Node, b: &Node| {
         (0..dof)
@@ -1079,5 +1201,5 @@ fn farthest_points(nodes: Vec<Node>, k: usize, dof: usize) -> Vec<Node> {
         }
     }
     chosen.sort_unstable();
-    chosen.into_iter().map(|i| nodes[i]).collect()
+    chosen
 }

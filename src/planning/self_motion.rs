@@ -292,7 +292,10 @@ mod tests {
             prev = *q;
         }
         // The walk moved j0 (the self-motion of this arm is not a fixed point).
-        let span = pts.iter().map(|q| (q[0] - q0[0]).abs()).fold(0.0, Real::max);
+        let span = pts
+            .iter()
+            .map(|q| (q[0] - q0[0]).abs())
+            .fold(0.0, Real::max);
         assert!(span > 0.1, "j0 span {span}");
         let mut path = vec![q0];
         path.extend(pts.iter().take(20));
@@ -304,7 +307,10 @@ mod tests {
                 let t = i as Real / 16.0;
                 let q: Vec<Real> = (0..7).map(|j| a[j] + t * (b[j] - a[j])).collect();
                 let (dp, dr) = held.pose_error(&q);
-                assert!(dp <= HOLD_TOLERANCE && dr <= HOLD_TOLERANCE, "{dp:e} {dr:e}");
+                assert!(
+                    dp <= HOLD_TOLERANCE && dr <= HOLD_TOLERANCE,
+                    "{dp:e} {dr:e}"
+                );
             }
             a = *b;
         }

@@ -63,18 +63,6 @@ fn parse_direction(s: &str) -> anyhow::Result<Direction> {
     Ok(Direction::new(v[0], v[1], v[2])?)
 }
 
-/// Parse `x,y,z` (three numbers; `nan`/`inf` parse and are rejected by the consumer, which
-/// names the field).
-pub fn parse_triple(flag: &str, s: &str) -> anyhow::Result<[f64; 3]> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("{flag} `{s}`: expected three numbers x,y,z"))?;
-    anyhow::ensure!(v.len() == 3, "{flag} `{s}`: expected three numbers x,y,z");
-    Ok([v[0], v[1], v[2]])
-}
-
 /// The rig overrides of `--margin`, `--clamp` and `--no-reconfiguration`.
 pub fn overrides(
     margin: Option<f64>,
@@ -83,7 +71,9 @@ pub fn overrides(
 ) -> anyhow::Result<RigOverrides> {
     Ok(RigOverrides {
         margin,
-        clamp: clamp.map(|c| parse_triple("--clamp", c)).transpose()?,
+        clamp: clamp
+            .map(|c| helixreach::planning::rig::parse_xyz("--clamp", c))
+            .transpose()?,
         allow_reconfiguration: no_reconfiguration.then_some(false),
     })
 }
