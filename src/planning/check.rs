@@ -348,6 +348,19 @@ pub struct CheckReport {
 
 /// The robot, collision model and pose map a check needs, built once per rig (cheap to reuse
 /// over many files with different clamps: see [`Checker::with_rig`]).
+///
+/// ```
+/// use helixreach::planning::check::{CheckOptions, Checker, JointFile};
+/// use helixreach::planning::rig::Rig;
+/// let checker = Checker::new(Rig::load("sawyer-seed").unwrap()).unwrap();
+/// // Two rows; the second turns right_j6 past its upper limit (4.71 rad).
+/// let text = "0 -1 0 1.5 0 -0.5 0\n0 -1 0 1.5 0 -0.5 5.0\n";
+/// let traj = JointFile::parse(text, "t.txt".as_ref(), &checker.joint_names()).unwrap();
+/// let rep = checker.check(&traj, &CheckOptions::default()).unwrap();
+/// assert_eq!((rep.rows, rep.limit_violations, rep.steps_over_jump), (2, 1, 1));
+/// assert!((rep.max_joint_step.0 - 5.0).abs() < 1e-12);
+/// assert!(rep.row_checks[1].limit.as_ref().unwrap().contains("right_j6"));
+/// ```
 #[derive(Debug, Clone)]
 pub struct Checker {
     rig: Rig,
