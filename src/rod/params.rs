@@ -29,7 +29,7 @@ pub struct Material {
 
 /// Default nondimensional stretching stiffness `k_s/(k_b/L²)` of [`Material::nondimensional`]:
 /// a rod of slenderness h/L = 2·10⁻³ (`k_s = 4/(h/L)²`). Its measured effect on the DER
-/// boundary is δs* ≈ 15/k_s (1.4·10⁻⁶ relative along [1,1,1]/√3), far below the
+/// boundary is δs* ≈ 15/k_s (1.4·10⁻⁶ relative along (1, 1, 1)/√3), far below the
 /// discretization error at practical n.
 pub const DEFAULT_STRETCH: Real = 1e6;
 

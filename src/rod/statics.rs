@@ -4,7 +4,7 @@
 //! [`Rod::free_range_clamped`]). Each iteration re-bases the reference frames at the iterate
 //! ([`RodState::update_reference`]), assembles the gradient and the banded Hessian
 //! ([`energy::energy_gradient_hessian`]), factors the free block `H_ff = L D Lᵀ`
-//! ([`BandedLdlt`]) and steps `Δ = −H_ff⁻¹ g_f`, backtracking (halving) while the residual
+//! ([`BandedLdlt`](super::BandedLdlt)) and steps `Δ = −H_ff⁻¹ g_f`, backtracking (halving) while the residual
 //! `‖g_f‖∞` does not decrease. Newton seeks stationary points, not minima, so it converges to
 //! unstable equilibria too (which is what a stability test along a branch needs).
 //!
