@@ -182,6 +182,12 @@ impl Figure for Map<'_> {
             chart
                 .draw_series(
                     pts.chunks(2)
+                        // Only dashes inside the plotted window (plotters would clip them onto
+                        // the frame).
+                        .filter(|p| {
+                            p.iter()
+                                .all(|&(x, y)| x >= x0 && x <= x1 && y >= y0 && y <= y1)
+                        })
                         .map(|p| PathElement::new(p.to_vec(), style::BLACK.stroke_width(2))),
                 )?
                 .label("reach bound at the clamp height")
