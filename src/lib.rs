@@ -19,6 +19,8 @@
 //! | [`helix`] | exact helix geometry: centerline, Frenet/Bishop/material frames, end pose, discrete helix, error metric |
 //! | [`directions`] | direction sets on the half-sphere κ ≥ 0 (Fibonacci lattice, CSV) |
 //! | [`rod`] | Discrete Elastic Rods: energies, gradients, Hessians, statics, dynamics |
+//! | [`bifurcation`] | snap or gradual departure at s*: Koiter coefficient from DER statics, static return on unloading |
+//! | [`compare`] | measured versus simulated boundaries (the paper's err per direction and its statistics) |
 //! | [`boundary`] | the stability boundary along rays: continuum conjugate points and DER statics |
 //! | [`robot`] | URDF robots: compiled kinematics, IK, collision |
 //! | [`planning`] | rig files, pose paths, ladder graph, trajectories |
@@ -29,7 +31,9 @@
 //! Dependencies point one way: `planning` → {`helix`, `robot`, `boundary`}; `boundary` → {`rod`,
 //! `helix`}; `rod` → `helix`; `sweep` → `planning`; `plot` reads records only.
 
+pub mod bifurcation;
 pub mod boundary;
+pub mod compare;
 pub mod cpu_time;
 pub mod directions;
 pub mod error;

@@ -10,6 +10,8 @@
 //! | the ω = 0 section, boundary curve with the reachable part | [`section::render`] | [`BoundaryRow`] (+ [`ReachRow`]) |
 //! | helix error e versus ‖S‖ (DER dynamics) | [`error_vs_s::render`] | [`Series`] |
 //! | speed versus error of boundary methods (log-log) | [`speed_error::render`] | [`SpeedErrorRow`] |
+//! | bifurcation type over the directions, with the hysteresis width and labelled runs | [`bifurcation_map::render`] | [`bifurcation_map::BifurcationRow`] |
+//! | measured snap points (and mirror images) on the boundary: views along each axis, ω = 0 section | [`comparison::render`] | [`BoundaryRow`] + measured points |
 //! | joint and motor angles versus s, with joint limits | [`trajectory::render`] | [`TrajectoryRow`] (+ [`JointLimit`]) |
 //! | robot, rod and scene along a trajectory: strip, GIF (poses the robot model; see its docs) | [`render::render_trajectory`] | trajectory CSV + rig |
 //! | rig layout: coverage heat map over the bench | [`layout_heatmap::render`] | [`layout_heatmap::Heatmap`] |
@@ -35,7 +37,9 @@
 //!
 //! [`Direction`]: crate::directions::Direction
 
+pub mod bifurcation_map;
 pub mod boundary3d;
+pub mod comparison;
 pub mod direction_map;
 pub mod error_vs_s;
 pub mod layout_coverage;

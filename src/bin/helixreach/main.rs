@@ -22,6 +22,10 @@ enum Command {
     Helix(commands::helix::Args),
     /// Stability boundary s* along a set of directions.
     Boundary(commands::boundary::Args),
+    /// Subcritical snap or supercritical departure at s*, with the static return on unloading.
+    Bifurcation(commands::bifurcation::Args),
+    /// Measured snap points versus a simulated boundary (the paper's err per direction).
+    Compare(commands::compare::Args),
     /// DER dynamics: drive the rod along one ray at finite speed.
     Simulate(commands::simulate::Args),
     /// The seed paper's disturbance study (its Fig. 5).
@@ -69,6 +73,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Helix(a) => commands::helix::run(a),
         Command::Boundary(a) => commands::boundary::run(a),
+        Command::Bifurcation(a) => commands::bifurcation::run(a),
+        Command::Compare(a) => commands::compare::run(a),
         Command::Simulate(a) => commands::simulate::run(a),
         Command::Disturbances(a) => commands::disturbances::run(a),
         Command::Fk(a) => commands::fk::run(a),

@@ -39,5 +39,5 @@ pub mod study;
 
 pub use jitter::Jitter;
 pub use presets::{PhysicalRod, Preset};
-pub use ray::{simulate_ray, Sample, SimParams, Simulation};
+pub use ray::{simulate_ray, Phase, Sample, SimParams, Simulation, Unload};
 pub use stepper::{EndClamp, Stepper, StepperParams};

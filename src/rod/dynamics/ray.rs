@@ -25,6 +25,19 @@
 //!   continued there).
 //! - The run stops at `s_max`, or once e has stayed above the detection threshold and s has
 //!   advanced by `post_jump·s` past the first crossing (enough samples to confirm the jump).
+//!
+//! # Unloading (the seed's protocol: load, hold, unload)
+//! With [`SimParams::unload`] the run does not stop there: the end turns at `s_turn` (given, or
+//! where the loading run would have stopped: the confirmed jump plus `post_jump`, or `s_max`),
+//! is held for `hold` seconds, and then driven back along the same ray at the same ray speed
+//! down to s = 0. Every sample carries its [`Phase`]; loading samples are recorded every
+//! `record_ds` in s as before, hold and unloading samples every `record_ds/speed` seconds.
+//! The instability is detected on the loading samples only. The **return** `s_return` is read
+//! from the unloading samples: with ẽ the running median of e (the detection's window) and T the
+//! loading detection's threshold (or `detect.jump` without a detection), the last unloading
+//! sample with ẽ ≥ T and the next one bracket the return, and `s_return` is the log-linear
+//! crossing of T between them. No unloading sample above T: `s_return` is `None` (the rod never
+//! left the helix, or came back during the hold); above T to the end: `s_return = 0`.
 
 use super::detect::{detect, DetectParams, Detection};
 use super::jitter::Jitter;
@@ -71,6 +84,50 @@ pub struct SimParams {
     pub detect: DetectParams,
     /// Newton controls.
     pub stepper: StepperParams,
+    /// Load, hold and unload (see the module docs); `None`: loading only.
+    pub unload: Option<Unload>,
+}
+
+/// The unloading protocol of [`SimParams::unload`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unload {
+    /// Where loading turns; `None`: where a loading-only run would stop.
+    pub s_turn: Option<Real>,
+    /// Hold time at `s_turn` (s, ≥ 0).
+    pub hold: Real,
+}
+
+impl Default for Unload {
+    /// Turn where the loading run stops, hold 1 s.
+    fn default() -> Self {
+        Unload {
+            s_turn: None,
+            hold: 1.0,
+        }
+    }
+}
+
+/// Which part of the load–hold–unload protocol a sample belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Phase {
+    /// s increasing.
+    Load,
+    /// s held at the turn.
+    Hold,
+    /// s decreasing.
+    Unload,
+}
+
+impl Phase {
+    /// `load`, `hold` or `unload`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Load => "load",
+            Phase::Hold => "hold",
+            Phase::Unload => "unload",
+        }
+    }
 }
 
 impl Default for SimParams {
@@ -92,6 +149,7 @@ impl Default for SimParams {
             post_jump: 0.05,
             detect: DetectParams::default(),
             stepper: StepperParams::default(),
+            unload: None,
         }
     }
 }
@@ -150,6 +208,22 @@ impl SimParams {
         }
         require_positive("record_ds", self.record_ds)?;
         self.detect.validate()?;
+        if let Some(u) = self.unload {
+            require_finite("hold", u.hold)?;
+            if u.hold < 0.0 || u.hold > 1e4 {
+                return Err(Error::invalid("hold", u.hold, "must lie in [0, 1e4] s"));
+            }
+            if let Some(st) = u.s_turn {
+                require_positive("s_turn", st)?;
+                if st > self.s_max {
+                    return Err(Error::invalid(
+                        "s_turn",
+                        st,
+                        format!("must be <= s_max = {}", self.s_max),
+                    ));
+                }
+            }
+        }
         let steps = self.s_max / (self.speed * self.dt);
         if steps > 1e9 {
             return Err(Error::invalid(
@@ -179,6 +253,8 @@ pub struct Sample {
     pub error: Real,
     /// Elastic energy (J).
     pub energy: Real,
+    /// Load, hold or unload.
+    pub phase: Phase,
 }
 
 /// The result of [`simulate_ray`].
@@ -200,6 +276,10 @@ pub struct Simulation {
     pub time_unit: Real,
     /// Whether the run ended early because a step failed after the jump.
     pub stopped_on_failure: bool,
+    /// With unloading: where loading turned.
+    pub s_turn: Option<Real>,
+    /// With unloading: where the rod returned to the helix (see the module docs).
+    pub s_return: Option<Real>,
 }
 
 impl Simulation {
@@ -259,7 +339,7 @@ pub fn simulate_ray(
         .collect();
     let mut samples = Vec::new();
     let ekb = phys.bending_stiffness() / len;
-    let mut record = |st: &Stepper, t: Real, s: Real| -> Result<Sample> {
+    let mut record = |st: &Stepper, t: Real, s: Real, phase: Phase| -> Result<Sample> {
         let [k, ta, w] = dir.at(s);
         let hx = Helix::new(k, ta, w)?;
         for i in 0..=n {
@@ -275,9 +355,10 @@ pub fn simulate_ray(
             omega: w,
             error: e,
             energy: st.elastic_energy() * ekb,
+            phase,
         })
     };
-    samples.push(record(&st, 0.0, 0.0)?);
+    samples.push(record(&st, 0.0, 0.0, Phase::Load)?);
     progress(0.0);
     let mut next_record = p.record_ds;
     let mut first_cross: Option<Real> = None;
@@ -288,15 +369,29 @@ pub fn simulate_ray(
         .end_pose_unchecked(1.0, c)
         .position;
     let mut k: u64 = 0;
+    // The schedule s(t): loading at the ray speed until the turn (t_turn, s_turn), then the
+    // hold, then unloading at the same speed.
+    let hold = p.unload.map_or(0.0, |u| u.hold);
+    let mut turn: Option<(Real, Real)> = None;
+    let sched = move |t: Real, turn: Option<(Real, Real)>| -> (Real, Phase) {
+        match turn {
+            None => (p.speed * t, Phase::Load),
+            Some((tt, st)) if t <= tt + hold => (st, Phase::Hold),
+            Some((tt, st)) => ((st - p.speed * (t - tt - hold)).max(0.0), Phase::Unload),
+        }
+    };
+    let record_dt = p.record_ds / p.speed;
+    let mut next_record_t = 0.0;
     loop {
         let t_k = k as Real * p.dt;
         let t_next = (k + 1) as Real * p.dt;
-        let s_next = p.speed * t_next;
+        let (s_next, phase) = sched(t_next, turn);
         // The end pose as a function of the fraction of the step. The (smooth) jitter is
         // evaluated at both ends of the step and interpolated linearly for sub-steps.
         let (j0, j1) = (jitter.at(t_k), jitter.at(t_next));
+        let tr = turn;
         let end = |lam: Real| -> EndClamp {
-            let s = p.speed * (t_k + lam * p.dt);
+            let (s, _) = sched(t_k + lam * p.dt, tr);
             let [k, ta, w] = dir.at(s);
             // Helix::new cannot fail for finite, bounded parameters (validated s_max).
             let hx = Helix::new(k, ta, w).expect("validated helix parameters");
@@ -324,9 +419,20 @@ pub fn simulate_ray(
         let endp = end(1.0).position;
         path_len += (endp - last_end).norm();
         last_end = endp;
+        if phase != Phase::Load {
+            if t_next + 1e-9 * p.dt >= next_record_t {
+                samples.push(record(&st, t_next, s_next, phase)?);
+                progress(s_next);
+                next_record_t += record_dt;
+            }
+            if phase == Phase::Unload && s_next <= 0.0 {
+                break;
+            }
+            continue;
+        }
         let recorded = s_next + 1e-12 >= next_record;
         if recorded {
-            let smp = record(&st, t_next, s_next)?;
+            let smp = record(&st, t_next, s_next, phase)?;
             samples.push(smp);
             progress(s_next);
             next_record += p.record_ds;
@@ -334,9 +440,8 @@ pub fn simulate_ray(
                 first_cross = Some(s_next);
             }
         }
-        if s_next >= p.s_max {
-            break;
-        }
+        // Where a loading-only run stops; with unloading, where it turns.
+        let mut stop = s_next >= p.s_max;
         if let Some(sc) = first_cross {
             // Stop once the detector confirms a jump with enough samples after it; re-arm if it
             // does not (a transient excursion, or noise).
@@ -347,17 +452,38 @@ pub fn simulate_ray(
                     Some(d)
                         if samples.len() - d.jump_index > p.detect.persist + p.detect.window =>
                     {
-                        break
+                        stop = true;
                     }
                     Some(_) => {}
                     None => first_cross = None,
                 }
             }
         }
+        match p.unload {
+            None if stop => break,
+            None => {}
+            Some(u) => {
+                let turn_now = match u.s_turn {
+                    Some(st) => s_next + 1e-12 >= st,
+                    None => stop,
+                };
+                if turn_now {
+                    turn = Some((t_next, s_next));
+                    next_record_t = t_next + record_dt;
+                }
+            }
+        }
     }
-    let s_series: Vec<Real> = samples.iter().map(|x| x.s).collect();
-    let e_series: Vec<Real> = samples.iter().map(|x| x.error).collect();
+    let loading: Vec<&Sample> = samples.iter().filter(|x| x.phase == Phase::Load).collect();
+    let s_series: Vec<Real> = loading.iter().map(|x| x.s).collect();
+    let e_series: Vec<Real> = loading.iter().map(|x| x.error).collect();
     let detection = detect(&s_series, &e_series, &p.detect)?;
+    let s_return = if p.unload.is_some() {
+        let level = detection.map_or(p.detect.jump, |d| d.threshold);
+        return_point(&samples, level, p.detect.window)
+    } else {
+        None
+    };
     let total_t = steps as Real * p.dt;
     Ok(Simulation {
         samples,
@@ -365,6 +491,8 @@ pub fn simulate_ray(
         steps,
         newton_iterations: newton,
         substeps,
+        s_turn: turn.map(|t| t.1),
+        s_return,
         mean_end_speed: if total_t > 0.0 {
             path_len * len / total_t
         } else {
@@ -373,4 +501,27 @@ pub fn simulate_ray(
         time_unit: t0,
         stopped_on_failure,
     })
+}
+
+/// The return on unloading (see the module docs): the log-linear crossing of `level` by the
+/// running median of e after the last unloading sample at or above it.
+pub fn return_point(samples: &[Sample], level: Real, window: usize) -> Option<Real> {
+    let un: Vec<&Sample> = samples
+        .iter()
+        .filter(|x| x.phase == Phase::Unload)
+        .collect();
+    let e: Vec<Real> = un.iter().map(|x| x.error).collect();
+    let m = super::detect::running_median(&e, window);
+    let last = m.iter().rposition(|&v| v >= level)?;
+    if last + 1 >= m.len() {
+        return Some(0.0);
+    }
+    let (s0, s1) = (un[last].s, un[last + 1].s);
+    let (a, b) = (m[last].max(1e-300).ln(), m[last + 1].max(1e-300).ln());
+    let f = if a > b {
+        ((a - level.ln()) / (a - b)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    Some(s0 + f * (s1 - s0))
 }

@@ -1,7 +1,9 @@
 //! One module per subcommand.
 
+pub mod bifurcation;
 pub mod boundary;
 pub mod check;
+pub mod compare;
 pub mod demo;
 pub mod disturbances;
 pub mod fk;

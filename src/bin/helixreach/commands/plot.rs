@@ -23,6 +23,12 @@ pub enum Kind {
     /// Joint and motor angles versus s (input: `plan` trajectory CSV; input2: joint limits CSV
     /// with joint,lower,upper).
     Trajectory,
+    /// Bifurcation type over the directions with the hysteresis width (input: `bifurcation`
+    /// CSV; input2: labelled directions with dir_kappa,dir_tau,dir_omega,type).
+    Bifurcation,
+    /// Measured snap points and mirror images on the boundary, views along each axis and the
+    /// ω = 0 section (input: boundary CSV; input2: measured CSV, required).
+    Comparison,
 }
 
 /// Arguments of `helixreach plot`.
@@ -122,6 +128,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 ..Default::default()
             };
             plot::trajectory::render(&plot::read_trajectory(input)?, &opts, &args.out)
+        }
+        Kind::Bifurcation => {
+            let labelled = match &args.input2 {
+                Some(p) => plot::bifurcation_map::read_labelled(p)?,
+                None => Vec::new(),
+            };
+            plot::bifurcation_map::render(
+                &plot::bifurcation_map::read_bifurcation(input)?,
+                &labelled,
+                &args.out,
+            )
+        }
+        Kind::Comparison => {
+            let Some(m) = &args.input2 else {
+                bail!("comparison needs the measured CSV as --input2");
+            };
+            let measured: Vec<_> = helixreach::compare::read_measured(m)?
+                .rows
+                .iter()
+                .map(|r| (r.dir, r.s_measured))
+                .collect();
+            plot::comparison::render(&plot::read_boundary(input)?, &measured, &args.out)
         }
     }
     .with_context(what)?;

@@ -1,12 +1,18 @@
 //! `helixreach simulate`: DER dynamics along one ray (thin glue over
 //! [`helixreach::rod::dynamics::simulate_ray`]). Writes the series `t,s,kappa,tau,omega,error,
 //! energy` to `--out` (atomically) and prints the detection as JSON on stdout.
+//!
+//! `--unload` runs the seed's protocol: load, hold `--hold` seconds at the turn (`--s-turn`, or
+//! where the loading run would stop: the confirmed jump plus 5 %), unload to s = 0 at the same
+//! speed. The series then has a last column `phase` (`load`, `hold`, `unload`) and the JSON
+//! reports `s_turn` and `s_return` (where unloading rejoined the helix; see
+//! `helixreach::rod::dynamics::ray`).
 
 use anyhow::Context;
 use helixreach::directions::Direction;
 use helixreach::math::{Real, Vec3};
 use helixreach::rod::dynamics::presets::{Preset, STANDARD_GRAVITY};
-use helixreach::rod::dynamics::{simulate_ray, SimParams, Simulation};
+use helixreach::rod::dynamics::{simulate_ray, SimParams, Simulation, Unload};
 use helixreach::Error;
 use std::fmt::Write as _;
 use std::io::Write;
@@ -72,7 +78,21 @@ pub struct Args {
     /// Sample spacing in s.
     #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
     record_ds: Real,
-    /// Output CSV (t,s,kappa,tau,omega,error,energy), written atomically.
+    /// Load, hold and unload (the seed's protocol).
+    #[arg(long)]
+    unload: bool,
+    /// With --unload: where loading turns (default: the confirmed jump plus 5 %).
+    #[arg(long, requires = "unload", allow_negative_numbers = true)]
+    s_turn: Option<Real>,
+    /// With --unload: hold time at the turn (s).
+    #[arg(
+        long,
+        requires = "unload",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    hold: Real,
+    /// Output CSV (t,s,kappa,tau,omega,error,energy[,phase]), written atomically.
     #[arg(long)]
     out: PathBuf,
 }
@@ -112,6 +132,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         seed: args.seed,
         s_max: args.s_max,
         record_ds: args.record_ds,
+        unload: args.unload.then_some(Unload {
+            s_turn: args.s_turn,
+            hold: args.hold,
+        }),
         ..SimParams::default()
     };
     p.validate()?;
@@ -145,14 +169,21 @@ pub fn progress_bar(s_max: Real) -> indicatif::ProgressBar {
 }
 
 /// The series as CSV text (header `t,s,kappa,tau,omega,error,energy`).
+/// With unloading (`sim.s_turn` set) a last column `phase` is added.
 pub fn series_csv(sim: &Simulation) -> String {
-    let mut out = String::from("t,s,kappa,tau,omega,error,energy\n");
+    let phased = sim.s_turn.is_some();
+    let mut out = String::from("t,s,kappa,tau,omega,error,energy");
+    out.push_str(if phased { ",phase\n" } else { "\n" });
     for x in &sim.samples {
-        let _ = writeln!(
+        let _ = write!(
             out,
             "{},{},{},{},{},{},{}",
             x.t, x.s, x.kappa, x.tau, x.omega, x.error, x.energy
         );
+        if phased {
+            let _ = write!(out, ",{}", x.phase.name());
+        }
+        out.push('\n');
     }
     out
 }
@@ -178,6 +209,9 @@ fn summary_json(
     serde_json::json!({
         "direction": [dir.kappa, dir.tau, dir.omega],
         "s_dyn": finite(sim.s_dyn()),
+        "s_turn": sim.s_turn,
+        "s_return": sim.s_return,
+        "hysteresis": sim.s_return.map(|r| sim.s_dyn() - r).and_then(finite),
         "detection": sim.detection,
         "speed_convention": "ray speed ds/dt (1/s)",
         "speed": p.speed,

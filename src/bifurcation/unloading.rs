@@ -1,0 +1,291 @@
+//! Hysteresis from DER statics: where the post-snap equilibrium rejoins the helix on unloading.
+//!
+//! Past s* on a subcritical ray the helix is unstable and no equilibrium is nearby: the rod
+//! snaps to a far equilibrium. [`static_return`] finds it and follows it back down in s:
+//!
+//! 1. at `s_a = s*·(1 + OVERSHOOT)` the helix equilibrium (or the sampled helix, if Newton
+//!    has no helical equilibrium there) is pushed along the critical mode φ so that its largest
+//!    node moves `KICK·L`, and relaxed to a local minimum by damped implicit-Euler dynamics
+//!    with the ends held ([`crate::rod::dynamics::Stepper`]), polished by Newton once the
+//!    motion has died out and accepted when stable;
+//! 2. natural continuation down in s: the far state is moved by the change of the sampled
+//!    helix from s to `s − Δs` (the predictor), the end clamp is set to the helix end pose at
+//!    `s − Δs` ([`crate::rod::clamp::impose`], twist continuous) and Newton re-converges (if
+//!    Newton fails, the end is moved from s to `s − Δs` by damped dynamics instead, which
+//!    follows the far branch while it exists and falls back to the helix where it ends); a step is
+//!    accepted when the equilibrium is stable (LDLᵀ inertia 0) and still away from the helix
+//!    (largest node distance to the sampled helix > `AWAY·L`); accepted steps grow by 1.5,
+//!    rejected ones halve;
+//! 3. the far branch ends at a fold (Newton fails), a loss of stability, or a merge with the
+//!    helix; `s_return` is the last accepted s once Δs < `tol_rel·s*` (the true end lies in
+//!    `[s_return − Δs, s_return]`).
+//!
+//! Statics gives the quasi-static limit (speed → 0) of the dynamic unloading; a dynamic run
+//! stays on the far branch a little longer, so its return is lower than the static one.
+
+use super::reduction::CriticalMode;
+use crate::boundary::der::DerRay;
+use crate::directions::Direction;
+use crate::error::{Error, Result};
+use crate::helix::Helix;
+use crate::math::{Real, Vec3};
+use crate::rod::clamp::{self, ClampPlacement, End};
+use crate::rod::dynamics::{Stepper, StepperParams};
+use crate::rod::statics::{self, NewtonParams};
+use crate::rod::{RodState, Workspace};
+
+/// The far equilibrium is sought this fraction past s*.
+pub const OVERSHOOT: Real = 0.02;
+/// Kick along the critical mode (largest node displacement, units of L).
+pub const KICK: Real = 0.05;
+/// A state whose nodes are all within this distance (units of L) of the helix counts as the helix.
+pub const AWAY: Real = 0.01;
+
+/// Twist inertia per unit mass during the relaxation (only the path to rest depends on it).
+const RELAX_TWIST_INERTIA: Real = 0.01;
+/// Damping ζ of the relaxation (nondimensional time units).
+const RELAX_DAMPING: Real = 10.0;
+/// Time step of the relaxation (nondimensional): small enough that `M/Δt²` dominates the
+/// negative curvature of the unstable helix, so every implicit step is well posed.
+const RELAX_DT: Real = 0.01;
+/// Largest number of relaxation steps.
+const RELAX_STEPS: usize = 20_000;
+/// Kinetic energy below which a Newton polish is tried.
+const RELAX_KINETIC: Real = 1e-6;
+
+/// The result of [`static_return`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticReturn {
+    /// Last s at which the far equilibrium was found stable and away from the helix.
+    pub s_return: Real,
+    /// Bracket width below `s_return` within which the far branch ends.
+    pub uncertainty: Real,
+    /// Largest node distance from the helix at `s_a` (the snap's size, units of L).
+    pub snap_size: Real,
+    /// Newton solves spent.
+    pub solves: usize,
+}
+
+/// Largest node distance between `st` and the sampled helix at `s` (`ray`'s discretization).
+fn distance_to_helix(ray: &mut DerRay, st: &RodState, s: Real) -> Result<Real> {
+    let h = ray.initial_state(s)?;
+    let n = st.n_edges();
+    Ok((0..=n)
+        .map(|i| (st.node(i) - h.node(i)).norm())
+        .fold(0.0, Real::max))
+}
+
+/// Move the end clamp of `st` to the helix end pose at `s`.
+fn move_end(
+    st: &mut RodState,
+    dir: &Direction,
+    s: Real,
+    c: Real,
+    placement: ClampPlacement,
+) -> Result<bool> {
+    let [k, t, w] = dir.at(s);
+    let hx = Helix::new(k, t, w)?;
+    let frame = hx.material_frame(1.0, c);
+    let n = st.n_edges();
+    let h = placement.edge_length(n, 1.0);
+    Ok(clamp::impose(
+        st,
+        placement,
+        End::End,
+        &hx.position(1.0),
+        &frame,
+        h,
+    ))
+}
+
+/// Follow the post-snap equilibrium of `ray` back down from past `s_star` (see the module
+/// docs). `mode` is the critical mode at s*, `c` the twist ratio, `tol_rel` the relative
+/// resolution of `s_return`.
+pub fn static_return(
+    ray: &mut DerRay,
+    dir: &Direction,
+    s_star: Real,
+    mode: &CriticalMode,
+    c: Real,
+    placement: ClampPlacement,
+    tol_rel: Real,
+) -> Result<StaticReturn> {
+    let s_a = s_star * (1.0 + OVERSHOOT);
+    let start = match ray.evaluate(s_a) {
+        Ok(_) => ray.state().cloned(),
+        Err(Error::NotConverged { .. }) => None,
+        Err(e) => return Err(e),
+    };
+    let mut st = match start {
+        Some(s) => s,
+        None => ray.initial_state(s_a)?,
+    };
+    let rod = ray.rod().clone();
+    let x = KICK / mode.max_node.max(1e-300);
+    for (q, p) in st.q.iter_mut().zip(&mode.phi) {
+        *q += x * p;
+    }
+    if !st.update_reference() {
+        return Err(Error::invalid("kick", x, "degenerate kicked rod"));
+    }
+    // Relax: damped implicit-Euler dynamics with the ends held, then a Newton polish once the
+    // motion has died out (a Newton solve from the kicked state could land on any equilibrium,
+    // the unstable helix included; the damped motion descends the energy).
+    let mut stepper = Stepper::new(
+        rod.clone(),
+        placement,
+        st,
+        RELAX_TWIST_INERTIA,
+        Vec3::zeros(),
+        RELAX_DAMPING,
+        StepperParams::default(),
+    )?;
+    let free = rod.free_range_clamped();
+    let mut ws = Workspace::new(&rod);
+    let newton = NewtonParams::default();
+    let mut relaxed = None;
+    let mut polish = stepper.state().clone();
+    for k in 1..=RELAX_STEPS {
+        stepper.step(RELAX_DT, None)?;
+        if k % 50 == 0 && stepper.kinetic_energy() < RELAX_KINETIC {
+            polish.copy_from(stepper.state());
+            if let Ok(eq) = statics::solve(&rod, &mut polish, free.clone(), &mut ws, &newton) {
+                if eq.negative == 0 {
+                    relaxed = Some(polish.clone());
+                    break;
+                }
+            }
+        }
+    }
+    let Some(mut st) = relaxed else {
+        return Err(Error::NotConverged {
+            what: format!("relaxation to the post-snap equilibrium at s = {s_a}"),
+            iterations: RELAX_STEPS,
+            residual: stepper.kinetic_energy(),
+        });
+    };
+    let snap_size = distance_to_helix(ray, &st, s_a)?;
+    if snap_size <= AWAY {
+        return Err(Error::NotConverged {
+            what: format!(
+                "post-snap equilibrium at s = {s_a}: relaxed to a state only {snap_size} from the helix"
+            ),
+            iterations: 0,
+            residual: snap_size,
+        });
+    }
+    let mut s = s_a;
+    let mut ds = 0.02 * s_star;
+    let mut trial = st.clone();
+    let mut solves = 0;
+    let s_floor = 1e-3 * s_star;
+    while ds >= tol_rel * s_star {
+        let s_new = s - ds;
+        if s_new <= s_floor {
+            // The far branch survives down to the straight rod: report the floor.
+            return Ok(StaticReturn {
+                s_return: s_floor,
+                uncertainty: s_floor,
+                snap_size,
+                solves,
+            });
+        }
+        // Predictor: the far state moved by the change of the sampled helix from s to s_new
+        // (smooth along the rod, consistent with the moved end clamp), then the clamp.
+        trial.copy_from(&st);
+        let (h_old, h_new) = (ray.initial_state(s)?, ray.initial_state(s_new)?);
+        for k in free.clone() {
+            trial.q[k] += h_new.q[k] - h_old.q[k];
+        }
+        let ok = trial.update_reference()
+            && move_end(&mut trial, dir, s_new, c, placement)?
+            && match statics::solve(&rod, &mut trial, free.clone(), &mut ws, &newton) {
+                Ok(eq) => {
+                    solves += 1;
+                    eq.negative == 0 && distance_to_helix(ray, &trial, s_new)? > AWAY
+                }
+                Err(Error::NotConverged { .. }) => {
+                    solves += 1;
+                    // Newton's basin is small for the stiff, fine rod: move the end from s to
+                    // s_new quasi-statically by damped dynamics instead, settle and polish.
+                    match settle_moved(&mut stepper, &st, dir, (s, s_new), c, &rod, &mut ws)? {
+                        Some(x) => {
+                            trial.copy_from(&x);
+                            distance_to_helix(ray, &trial, s_new)? > AWAY
+                        }
+                        None => false,
+                    }
+                }
+                Err(e) => return Err(e),
+            };
+        if ok {
+            st.copy_from(&trial);
+            s = s_new;
+            ds = (1.5 * ds).min(0.05 * s_star);
+        } else {
+            ds *= 0.5;
+        }
+    }
+    Ok(StaticReturn {
+        s_return: s,
+        uncertainty: 2.0 * ds,
+        snap_size,
+        solves,
+    })
+}
+
+/// Steps over which the end is moved in [`settle_moved`].
+const MOVE_STEPS: usize = 20;
+
+/// From the equilibrium `st` at `s0`, move the end clamp to the helix end pose at `s1` over
+/// [`MOVE_STEPS`] damped implicit-Euler steps, let the motion die out and polish by Newton.
+/// Returns the stable equilibrium reached, or `None`.
+fn settle_moved(
+    stepper: &mut Stepper,
+    st: &RodState,
+    dir: &Direction,
+    (s0, s1): (Real, Real),
+    c: Real,
+    rod: &crate::rod::Rod,
+    ws: &mut Workspace,
+) -> Result<Option<RodState>> {
+    stepper.set_state(st)?;
+    let pose = |s: Real| -> Result<crate::rod::dynamics::EndClamp> {
+        let [k, t, w] = dir.at(s);
+        let hx = Helix::new(k, t, w)?;
+        Ok(crate::rod::dynamics::EndClamp {
+            position: hx.position(1.0),
+            frame: hx.material_frame(1.0, c),
+        })
+    };
+    // Validate the path once (Helix::new fails only on non-finite input).
+    pose(s0)?;
+    pose(s1)?;
+    for j in 0..MOVE_STEPS {
+        let a = j as Real / MOVE_STEPS as Real;
+        let end = |lam: Real| {
+            let s = s0 + (s1 - s0) * (a + lam / MOVE_STEPS as Real);
+            pose(s).expect("validated end poses")
+        };
+        if stepper.step(RELAX_DT, Some(&end)).is_err() {
+            return Ok(None);
+        }
+    }
+    let free = rod.free_range_clamped();
+    let newton = NewtonParams::default();
+    let mut polish = stepper.state().clone();
+    for k in 1..=RELAX_STEPS / 4 {
+        if stepper.step(RELAX_DT, None).is_err() {
+            return Ok(None);
+        }
+        if k % 50 == 0 && stepper.kinetic_energy() < RELAX_KINETIC {
+            polish.copy_from(stepper.state());
+            if let Ok(eq) = statics::solve(rod, &mut polish, free.clone(), ws, &newton) {
+                if eq.negative == 0 {
+                    return Ok(Some(polish));
+                }
+            }
+        }
+    }
+    Ok(None)
+}

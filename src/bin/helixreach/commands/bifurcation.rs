@@ -1,0 +1,148 @@
+//! `helixreach bifurcation`: the type of the loss of stability (subcritical snap or
+//! supercritical gradual departure) at the DER-statics s* of every direction of a set, with
+//! the post-buckling coefficient and, for subcritical rays, where the rod returns to the helix on
+//! quasi-static unloading (`helixreach::bifurcation`). CSV columns
+//! `dir_kappa,dir_tau,dir_omega,s_star,type,coefficient,s_return,hysteresis,resolution,reason`
+//! (rows in input order; `coefficient > 0` ⇔ supercritical, see the library docs; `s_return`
+//! and `hysteresis = s_star − s_return` empty when not computed; `reason` explains a
+//! `degenerate` row). Parallel over directions, checkpointed, resumable and shardable through
+//! `helixreach::sweep::driver`.
+
+use super::boundary::{dir_key, fmt_real};
+use anyhow::{bail, Context};
+use helixreach::bifurcation::{classify, Bifurcation, BifurcationParams};
+use helixreach::boundary::der::DerBoundaryParams;
+use helixreach::directions::{self, Direction};
+use helixreach::math::Real;
+use helixreach::sweep::driver::{self, Shard, SweepOptions};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// The bifurcation columns, in order.
+pub const HEADER: [&str; 10] = [
+    "dir_kappa",
+    "dir_tau",
+    "dir_omega",
+    "s_star",
+    "type",
+    "coefficient",
+    "s_return",
+    "hysteresis",
+    "resolution",
+    "reason",
+];
+
+/// Arguments of `helixreach bifurcation`.
+#[derive(Debug, clap::Args)]
+#[command(group(clap::ArgGroup::new("dirs").required(true).args(["directions", "fibonacci"])))]
+pub struct Args {
+    /// Directions from a CSV with columns dir_kappa,dir_tau,dir_omega.
+    #[arg(long)]
+    pub directions: Option<PathBuf>,
+    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0.
+    #[arg(long)]
+    pub fibonacci: Option<usize>,
+    /// With --fibonacci: the quarter κ ≥ 0, τ > 0 used by the experiment.
+    #[arg(long, requires = "fibonacci")]
+    pub quarter: bool,
+    /// Number of DER edges.
+    #[arg(long, default_value_t = 100)]
+    pub n_edges: usize,
+    /// Poisson's ratio ν (c = 1/(1+ν)).
+    #[arg(long, default_value_t = 0.33)]
+    pub nu: Real,
+    /// Skip the static unloading (no s_return for subcritical rays; much faster).
+    #[arg(long)]
+    pub no_return: bool,
+    /// Relative resolution of s_return.
+    #[arg(long, default_value_t = 1e-3)]
+    pub return_tol: Real,
+    /// Keep rows of an existing --out and compute only the missing directions.
+    #[arg(long)]
+    pub resume: bool,
+    /// Process only block I (0-based) of N contiguous blocks of the directions.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Seconds between checkpoints of --out.
+    #[arg(long, default_value_t = 10.0)]
+    pub checkpoint_secs: f64,
+    /// Output CSV.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// One CSV row.
+pub fn row(d: &Direction, b: &Bifurcation, resolution: &str) -> Vec<String> {
+    let opt = |x: Real| {
+        if x.is_nan() {
+            String::new()
+        } else {
+            fmt_real(x)
+        }
+    };
+    let mut v = dir_key(d);
+    v.extend([
+        fmt_real(b.s_star),
+        b.kind.name().to_string(),
+        opt(b.coefficient),
+        opt(b.s_return),
+        opt(b.hysteresis()),
+        resolution.to_string(),
+        b.reason.clone(),
+    ]);
+    v
+}
+
+/// Run `helixreach bifurcation`.
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let dirs = match (&a.directions, a.fibonacci) {
+        (Some(p), _) => directions::read_csv(p)?,
+        (None, Some(n)) => directions::fibonacci(n, a.quarter)?,
+        (None, None) => bail!("give --directions FILE.csv or --fibonacci N"),
+    };
+    if dirs.len() > 10_000_000 {
+        bail!("invalid direction count {}: at most 10^7", dirs.len());
+    }
+    if !(a.checkpoint_secs.is_finite() && a.checkpoint_secs >= 0.0) {
+        bail!(
+            "invalid --checkpoint-secs {}: must be >= 0",
+            a.checkpoint_secs
+        );
+    }
+    if a.n_edges > 2000 {
+        bail!("invalid --n-edges {}: at most 2000", a.n_edges);
+    }
+    let p = BifurcationParams {
+        der: DerBoundaryParams {
+            n_edges: a.n_edges,
+            nu: a.nu,
+            tol_rel: 1e-7,
+            ..DerBoundaryParams::default()
+        },
+        statics_return: !a.no_return,
+        return_tol_rel: a.return_tol,
+    };
+    p.validate().context("bifurcation parameters")?;
+    let resolution = format!("n={}", a.n_edges);
+    let mut opts = SweepOptions::new(&a.out, &HEADER, 3);
+    opts.resume = a.resume;
+    opts.shard = a.shard;
+    opts.checkpoint_interval = Duration::from_secs_f64(a.checkpoint_secs);
+    opts.progress = true;
+    let t0 = Instant::now();
+    let summary = driver::run(
+        &dirs,
+        dir_key,
+        |d| Ok(row(d, &classify(d, &p)?, &resolution)),
+        &opts,
+    )?;
+    eprintln!(
+        "bifurcation: {} directions ({} computed, {} resumed) in {:.3} s -> {}",
+        summary.total,
+        summary.computed,
+        summary.resumed,
+        t0.elapsed().as_secs_f64(),
+        a.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,113 @@
+//! `helixreach compare`: measured snap points versus a simulated boundary
+//! (`helixreach::compare`). The simulated values come from a boundary CSV (`--boundary`,
+//! written by `helixreach boundary`, matched by direction) or are computed here for the measured
+//! directions (`--method continuum|der`, in parallel). Writes `--out` (columns
+//! `dir_kappa,dir_tau,dir_omega,s_measured,s_sim,err,signed_diff`, rows in the order of the
+//! measured file) and prints the JSON summary (count, mean, max, population std of err, mean
+//! signed difference, and the directions without a simulated value) on stdout. Notes about
+//! normalized directions and missing values go to stderr.
+
+use anyhow::bail;
+use helixreach::boundary::{continuum, der};
+use helixreach::compare::{self, Measured};
+use helixreach::math::Real;
+use helixreach::plot::records::read_boundary;
+use rayon::prelude::*;
+use std::path::PathBuf;
+
+/// Which simulated boundary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    /// Kirchhoff-rod conjugate-point test.
+    Continuum,
+    /// DER statics with `--n-edges` edges.
+    Der,
+}
+
+/// Arguments of `helixreach compare`.
+#[derive(Debug, clap::Args)]
+#[command(group(clap::ArgGroup::new("sim").required(true).args(["boundary", "method"])))]
+pub struct Args {
+    /// Measured snap points: CSV with columns dir_kappa,dir_tau,dir_omega,s_measured.
+    #[arg(long)]
+    pub measured: PathBuf,
+    /// A boundary CSV (helixreach boundary) holding the measured directions.
+    #[arg(long)]
+    pub boundary: Option<PathBuf>,
+    /// Compute the boundary of the measured directions with this method.
+    #[arg(long, value_enum)]
+    pub method: Option<Method>,
+    /// Number of DER edges (method der).
+    #[arg(long, default_value_t = 100)]
+    pub n_edges: usize,
+    /// Output CSV.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+fn simulate(m: &[Measured], method: Method, n_edges: usize) -> anyhow::Result<Vec<Option<Real>>> {
+    if !(4..=2000).contains(&n_edges) {
+        bail!("invalid --n-edges {n_edges}: must be in 4..=2000");
+    }
+    let p = der::DerBoundaryParams {
+        n_edges,
+        tol_rel: 1e-8,
+        ..der::DerBoundaryParams::default()
+    };
+    let s: Vec<helixreach::Result<Real>> = m
+        .par_iter()
+        .map(|x| match method {
+            Method::Continuum => continuum::critical_s(&x.dir, 1e-10).map(|c| c.s_star),
+            Method::Der => der::critical_s(&x.dir, &p).map(|c| c.s_star),
+        })
+        .collect();
+    s.into_iter()
+        .zip(m)
+        .map(|(r, x)| {
+            r.map(|v| v.is_finite().then_some(v)).map_err(|e| {
+                anyhow::anyhow!(
+                    "line {} direction ({}, {}, {}): {e}",
+                    x.line,
+                    x.dir.kappa,
+                    x.dir.tau,
+                    x.dir.omega
+                )
+            })
+        })
+        .collect()
+}
+
+/// Run `helixreach compare`.
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let set = compare::read_measured(&a.measured)?;
+    for n in &set.notes {
+        eprintln!("note: {n}");
+    }
+    let sim = match (&a.boundary, a.method) {
+        (Some(b), _) => {
+            let rows = read_boundary(b)?;
+            let pairs: Vec<_> = rows.iter().map(|r| (r.dir, r.s_star)).collect();
+            compare::match_boundary(&set.rows, &pairs)
+        }
+        (None, Some(m)) => simulate(&set.rows, m, a.n_edges)?,
+        (None, None) => bail!("give --boundary FILE.csv or --method continuum|der"),
+    };
+    let c = compare::compare(&set.rows, &sim);
+    for &i in &c.missing {
+        let m = &set.rows[i];
+        eprintln!(
+            "note: {}:{}: no simulated boundary for direction ({}, {}, {}); row kept with empty s_sim",
+            a.measured.display(),
+            m.line,
+            m.dir.kappa,
+            m.dir.tau,
+            m.dir.omega
+        );
+    }
+    c.write_csv(&a.out)?;
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&c.summary_json(&set.rows))?
+    );
+    Ok(())
+}
