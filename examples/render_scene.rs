@@ -1,7 +1,10 @@
 //! Draw the default rig at one configuration with the library API (the call a rig-layout tool
-//! uses to show a placement): `cargo run --example render_scene -- OUT.png [--labels]`.
+//! uses to show a placement): plan one ray, pose the arm at the middle of its trajectory, draw
+//! it. `cargo run --example render_scene -- OUT.png [--labels]`.
 
-use helixreach::planning::rig::Rig;
+use helixreach::directions::Direction;
+use helixreach::planning::planner::Planner;
+use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::plot::render::{render_scene, Configuration, RenderOptions, Scene};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -9,15 +12,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = args.next().unwrap_or_else(|| "render_scene.png".into());
     let labels = args.any(|a| a == "--labels");
     let rig = Rig::load("sawyer-seed")?;
+    let planner = Planner::new(rig.clone())?;
+    let dir = Direction::new(0.3, 0.9, 0.3)?;
+    let s_star = helixreach::sweep::reach::s_star_of(&dir, None)?;
+    let plan = planner.plan_ray(&dir, s_star, 0.0, RollMode::Fixed, true)?;
+    let traj = planner.trajectory(&plan)?;
+    let p = &traj.points[traj.points.len() / 2];
     let scene = Scene::new(&rig)?;
-    // A configuration the seed's Sawyer executed, holding the helix (κ, τ, ω) = (2, 3, 0).
-    let q = vec![-0.857, -0.873, -1.819, -0.034, 1.860, 2.434, -2.200];
     let mut snap = scene.snapshot(&Configuration {
-        q,
-        kto: [2.0, 3.0, 0.0],
-        azimuth: 0.0,
+        q: p.q.clone(),
+        kto: p.kto,
+        azimuth: plan.azimuth,
     })?;
-    snap.title = vec!["seed configuration, helix (2, 3, 0)".into()];
+    snap.title = vec![format!(
+        "direction (0.3, 0.9, 0.3), s = {:.3} (s* = {:.3}), t = {:.1} s",
+        p.s, s_star, p.t
+    )];
     let opts = RenderOptions {
         labels,
         title: format!("rig {}", rig.name),
