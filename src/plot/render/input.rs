@@ -39,40 +39,7 @@ pub const MAX_STRIP_FRAMES: usize = 32;
 /// Most frames in a GIF.
 pub const MAX_GIF_FRAMES: usize = 2000;
 
-/// The phase of a trajectory row.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Phase {
-    /// Driving out along the ray.
-    Load,
-    /// Moving the arm at a held rod pose.
-    Reconfigure,
-    /// Holding.
-    Hold,
-    /// Driving back.
-    Unload,
-}
-
-impl Phase {
-    /// The name as in the CSV.
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            Phase::Load => "load",
-            Phase::Reconfigure => "reconfigure",
-            Phase::Hold => "hold",
-            Phase::Unload => "unload",
-        }
-    }
-
-    fn parse(s: &str) -> Option<Phase> {
-        match s {
-            "load" => Some(Phase::Load),
-            "reconfigure" => Some(Phase::Reconfigure),
-            "hold" => Some(Phase::Hold),
-            "unload" => Some(Phase::Unload),
-            _ => None,
-        }
-    }
-}
+pub use crate::planning::trajectory::Phase;
 
 /// One row of a trajectory CSV.
 #[derive(Debug, Clone, PartialEq)]

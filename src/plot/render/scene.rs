@@ -205,8 +205,16 @@ impl Solid {
 pub fn closest_points(s1: &Solid, s2: &Solid) -> Option<(Vec3, Vec3, Real)> {
     let (g1, p1) = s1.parry();
     let (g2, p2) = s2.parry();
-    let c = query::contact(&p1, g1.as_ref(), &p2, g2.as_ref(), 1e3).ok()??;
-    Some((c.point1.coords, c.point2.coords, c.dist))
+    // Separated: parry's closest points (exact; `contact` with a large prediction is not, for
+    // box pairs). Overlapping: the contact points (distance = −penetration).
+    match query::closest_points(&p1, g1.as_ref(), &p2, g2.as_ref(), 1e3).ok()? {
+        query::ClosestPoints::WithinMargin(a, b) => Some((a.coords, b.coords, (a - b).norm())),
+        query::ClosestPoints::Intersecting => {
+            let c = query::contact(&p1, g1.as_ref(), &p2, g2.as_ref(), 0.0).ok()??;
+            Some((c.point1.coords, c.point2.coords, c.dist.min(0.0)))
+        }
+        query::ClosestPoints::Disjoint => None,
+    }
 }
 
 /// One body of a snapshot.
