@@ -11,6 +11,7 @@
 //! ## Map
 //! | module | holds |
 //! |---|---|
+//! | [`architecture`] | the design: math, conventions, data flow (`docs/ARCHITECTURE.md`) |
 //! | [`math`] | scalar/geometry aliases, named tolerances, stable ratios (sin x/x, …) |
 //! | [`error`] | the typed [`Error`] |
 //! | [`io`] | atomic file output, output locks and checks, CSV input |
@@ -26,11 +27,19 @@
 //! | [`planning`] | rig files, pose paths, ladder graph, trajectories |
 //! | [`sweep`] | reachability over direction sets (parallel, resumable) |
 //! | [`layout`] | rig layout: clamp placements that together cover a direction set |
-//! | [`plot`] | figures from saved records |
+//! | [`records`] | typed rows (boundary, reach, series, speed-vs-error, trajectory) and their CSV readers |
+//! | `plot` | (feature `plots`) figures from saved records |
+//! | [`progress`] | progress of long work on stderr (a bar on a terminal, plain lines otherwise) |
+//!
+//! Features: `cli` (default: the binary, progress bars, plots), `plots`, `progress`, `interop`
+//! (k ↔ helixreach robots); `--no-default-features` builds the core alone. Formulas render with
+//! KaTeX: `RUSTDOCFLAGS="--html-in-header $PWD/docs/katex-header.html" cargo doc --no-deps --open`.
 //!
 //! Dependencies point one way: `planning` → {`helix`, `robot`, `boundary`}; `boundary` → {`rod`,
 //! `helix`}; `rod` → `helix`; `sweep` → `planning`; `plot` reads records only.
 
+#[doc = include_str!("../docs/ARCHITECTURE.md")]
+pub mod architecture {}
 pub mod bifurcation;
 pub mod boundary;
 pub mod compare;
@@ -43,7 +52,10 @@ pub mod layout;
 pub mod limits;
 pub mod math;
 pub mod planning;
+#[cfg(feature = "plots")]
 pub mod plot;
+pub mod progress;
+pub mod records;
 pub mod robot;
 pub mod rod;
 pub mod sweep;

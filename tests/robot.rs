@@ -3,6 +3,7 @@
 //! pairwise queries, and clear errors for bad input.
 
 use helixreach::math::{rotation_angle, Mat3, Real, Vec3};
+#[cfg(feature = "interop")]
 use helixreach::robot::k_bridge::KRobot;
 use helixreach::robot::{
     pose_from_xyz_wxyz, Frame, IkParams, IkSolver, IkTarget, Jacobian, RobotModel, MAX_DOF,
@@ -13,10 +14,13 @@ use rand_chacha::ChaCha8Rng;
 const ROBOTS: [&str; 3] = ["sawyer", "panda", "iiwa14"];
 const SEED_Q: [Real; 7] = [-0.857, -0.873, -1.819, -0.034, 1.860, 2.434, -2.200];
 
+#[cfg(feature = "interop")]
 fn frame_diff(a: &Frame, b: &Frame) -> (Real, Real) {
     ((a.pos - b.pos).norm(), (a.rot - b.rot).abs().max())
 }
 
+// The k cross-checks run with `--features interop` (the README's test command).
+#[cfg(feature = "interop")]
 #[test]
 fn compiled_fk_equals_k_fk_at_10000_random_configs() {
     for name in ROBOTS {
@@ -37,6 +41,8 @@ fn compiled_fk_equals_k_fk_at_10000_random_configs() {
     }
 }
 
+// The k cross-checks run with `--features interop` (the README's test command).
+#[cfg(feature = "interop")]
 #[test]
 fn every_link_frame_equals_k() {
     for name in ROBOTS {

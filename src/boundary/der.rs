@@ -1,4 +1,4 @@
-//! The DER-statics stability boundary along a ray (DESIGN.md §3, "DER-predicted boundary").
+//! The DER-statics stability boundary along a ray ([architecture §3](crate::architecture), "DER-predicted boundary").
 //!
 //! For a unit direction S̄ and a distance s, the rod of length 1 is clamped at both ends
 //! ([`crate::rod::clamp`]): edge 0 along z with the identity material frame at the origin, edge

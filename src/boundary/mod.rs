@@ -1,4 +1,4 @@
-//! The stability boundary along rays (DESIGN.md §3).
+//! The stability boundary along rays ([architecture §3](crate::architecture)).
 //!
 //! - [`continuum`]: the exact Kirchhoff-rod conjugate-point test.
 //! - [`der`]: the Discrete Elastic Rods statics boundary.

@@ -1,4 +1,4 @@
-//! Exact helix geometry (DESIGN.md §2): the centerline, the Frenet, parallel-transport (Bishop)
+//! Exact helix geometry ([architecture §2](crate::architecture)): the centerline, the Frenet, parallel-transport (Bishop)
 //! and material frames at any arc length, the end pose the robot and motor must impose, a
 //! discrete helix with discrete parallel transport, and the paper's helix error metric.
 //!
@@ -15,7 +15,7 @@
 //!
 //!   r(s) = ( κ s²·(1−cos θ)/θ²,  κτ s³·(θ−sin θ)/θ³,  s − κ² s³·(θ−sin θ)/θ³ ).
 //!
-//!   At s = 1 this is DESIGN.md's r(1) (the seed paper's printed formula is garbled).
+//!   At s = 1 this is [architecture §2](crate::architecture)'s r(1) (the seed paper's printed formula is garbled).
 //! - Parallel-transport (Bishop) frame Q = [d1 d2 d3]: Q(s) = F(s)·Rz(−τ s). Its angular
 //!   velocity in the body, Rz(τs)·w = κ(−sin τs, cos τs, 0), has no tangent component, which is
 //!   the definition of parallel transport; Q(0) = I.
@@ -177,7 +177,7 @@ impl Helix {
     }
 
     /// The mirror image (κ, −τ, −ω): the reflection y → −y of the clamp frame maps this helix's
-    /// centerline onto the mirror's, with the same stability (DESIGN.md §1).
+    /// centerline onto the mirror's, with the same stability ([architecture §1](crate::architecture)).
     pub fn mirror(&self) -> Helix {
         Helix {
             tau: -self.tau,

@@ -1,4 +1,4 @@
-//! Rig files, pose paths, ladder graph, trajectories (DESIGN.md §4–5).
+//! Rig files, pose paths, ladder graph, trajectories ([architecture §4–5](crate::architecture)).
 //!
 //! | module | holds |
 //! |---|---|

@@ -1,5 +1,5 @@
 //! The Descartes-style planner of one ray: pose path → rungs of IK solutions → ladder DP →
-//! joint + motor path (DESIGN.md §5).
+//! joint + motor path ([architecture §5](crate::architecture)).
 //!
 //! # Rungs
 //! - **Start** (s = 0, the straight rod — the same pose for every ray and azimuth): a diverse set

@@ -1,5 +1,5 @@
 //! Rig files: which robot holds the rod, where the clamp is, the rod, the motor, the roll mode,
-//! the helix azimuths, the scene and the planner settings (DESIGN.md §4).
+//! the helix azimuths, the scene and the planner settings ([architecture §4](crate::architecture)).
 //!
 //! A rig is a TOML file (see `robots/sawyer-seed.toml`, which documents every field). It is parsed
 //! into private raw structs (`deny_unknown_fields`, so a typo is an error) and then validated into

@@ -1,4 +1,4 @@
-//! Figures (plotters, PNG and SVG) from saved records (DESIGN.md §6).
+//! Figures (plotters, PNG and SVG) from saved records ([architecture §6](crate::architecture)).
 //!
 //! The plot module reads records only — rows of the CSV files the other commands write, or the
 //! same rows built in memory — and never calls the solvers. One file per figure kind:
@@ -45,7 +45,8 @@ pub mod error_vs_s;
 pub mod layout_coverage;
 pub mod layout_directions;
 pub mod layout_heatmap;
-pub mod records;
+/// The records (rows) figures are drawn from: [`crate::records`].
+pub use crate::records;
 pub mod render;
 pub mod section;
 pub mod speed_error;

@@ -1,5 +1,5 @@
 //! URDF robots: the immutable model, compiled allocation-free kinematics, inverse kinematics
-//! returning every solution found, and collision checking (DESIGN.md §4).
+//! returning every solution found, and collision checking ([architecture §4](crate::architecture)).
 //!
 //! ## Map
 //! | module | holds |
@@ -9,7 +9,7 @@
 //! | [`kinematics`] | the compiled [`Chain`]: tool pose, all link frames, 6×n geometric [`Jacobian`] |
 //! | [`collision`] | parry collision: self (filtered pairs), scene obstacles, the rod as capsules; clearance |
 //! | [`ik`] | box-constrained Levenberg–Marquardt IK: all distinct solutions, track mode |
-//! | [`k_bridge`] | k (nalgebra 0.30) as the reference FK and peer IK; the only nalgebra-0.30 code |
+//! | `k_bridge` | (feature `interop`) a robot as a k chain (nalgebra 0.30): the reference FK and peer IK; the only nalgebra-0.30 code |
 //!
 //! ```
 //! use helixreach::robot::RobotModel;
@@ -23,6 +23,7 @@
 
 pub mod collision;
 pub mod ik;
+#[cfg(feature = "interop")]
 pub mod k_bridge;
 pub mod kinematics;
 pub mod model;

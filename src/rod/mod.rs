@@ -1,4 +1,4 @@
-//! Discrete Elastic Rods (DESIGN.md §3; Bergou et al. 2008/2010, the seed paper §II.B):
+//! Discrete Elastic Rods ([architecture §3](crate::architecture); Bergou et al. 2008/2010, the seed paper §II.B):
 //! energies with analytic gradients and banded Hessians, shared by statics and dynamics.
 //!
 //! | module | holds |

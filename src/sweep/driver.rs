@@ -349,7 +349,7 @@ fn prepare_file(
 
 /// Progress on stderr: an indicatif bar on a terminal, else a line every 10 s.
 struct Progress {
-    bar: indicatif::ProgressBar,
+    bar: crate::progress::Bar,
     lines: bool,
     total: usize,
     name: String,
@@ -360,23 +360,14 @@ struct Progress {
 impl Progress {
     fn new(on: bool, total: usize, name: &str) -> Self {
         let tty = std::io::stderr().is_terminal();
-        let bar = if on && tty {
-            let pb = indicatif::ProgressBar::with_draw_target(
-                Some(total as u64),
-                indicatif::ProgressDrawTarget::stderr(),
-            );
-            if let Ok(style) = indicatif::ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} ({per_sec}, eta {eta})",
-            ) {
-                pb.set_style(style);
-            }
-            pb
+        let bar = if on && tty && crate::progress::Bar::DRAWS {
+            crate::progress::Bar::new(total)
         } else {
-            indicatif::ProgressBar::hidden()
+            crate::progress::Bar::hidden()
         };
         Progress {
             bar,
-            lines: on && !tty,
+            lines: on && (!tty || !crate::progress::Bar::DRAWS),
             total,
             name: name.to_string(),
             t0: Instant::now(),

@@ -1,4 +1,4 @@
-//! Sweeps over direction sets (DESIGN.md §6).
+//! Sweeps over direction sets ([architecture §6](crate::architecture)).
 //!
 //! - [`driver`]: the generic resumable, checkpointed, locked, deterministic parallel map over
 //!   items with its data-safety rules (used by `boundary`, `reach` and every other sweep).

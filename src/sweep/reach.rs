@@ -1,4 +1,4 @@
-//! The reachability sweep (DESIGN.md §6): every direction of a set is planned on a rig
+//! The reachability sweep ([architecture §6](crate::architecture)): every direction of a set is planned on a rig
 //! ([`crate::planning::planner::Planner::plan_best`]) and classified as `testable`, `partial` or
 //! `blocked`, with the blocking cause. Built on the generic [`crate::sweep::driver`]: parallel
 //! over directions only, rows in input order (bitwise identical for any thread count),

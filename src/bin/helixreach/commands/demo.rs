@@ -35,8 +35,9 @@ use std::time::Instant;
 /// Arguments of `helixreach demo`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Output directory for figures, CSVs and the report.
-    #[arg(long, default_value = "figures")]
+    /// Output directory for figures, CSVs and the report (`--out figures` regenerates the
+    /// figures committed for the README).
+    #[arg(long, default_value = "helixreach-demo")]
     pub out: PathBuf,
     /// A small, fast run (about a minute): fewer directions, coarser rods.
     #[arg(long)]
