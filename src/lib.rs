@@ -28,6 +28,7 @@
 //! | [`sweep`] | reachability over direction sets (parallel, resumable) |
 //! | [`layout`] | rig layout: clamp placements that together cover a direction set |
 //! | [`records`] | typed rows (boundary, reach, series, speed-vs-error, trajectory) and their CSV readers |
+//! | [`experiment`] | the whole study (the demo) as library stages with typed outcomes |
 //! | `plot` | (feature `plots`) figures from saved records |
 //! | [`progress`] | progress of long work on stderr (a bar on a terminal, plain lines otherwise) |
 //!
@@ -46,6 +47,7 @@ pub mod compare;
 pub mod cpu_time;
 pub mod directions;
 pub mod error;
+pub mod experiment;
 pub mod helix;
 pub mod io;
 pub mod layout;

@@ -1,0 +1,166 @@
+//! Stage 3: reachability of the experiment's quarter-sphere (and of the ω = 0 fan, for the
+//! section figure) in both roll modes, on the sweep driver.
+
+use super::{omega0_fan, write, Log, Settings};
+use crate::directions::{fibonacci, Direction};
+use crate::error::Result;
+use crate::planning::planner::Planner;
+use crate::planning::rig::{Rig, RollMode};
+use crate::records::{self, Cause, ReachClass, ReachRow};
+use crate::sweep::driver::SweepOptions;
+use crate::sweep::reach::{self as sweep_reach, ReachOptions, REACH_HEADER};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::Instant;
+
+/// Class counts of one roll mode over the quarter-sphere.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RollSummary {
+    /// Directions planned.
+    pub directions: usize,
+    /// Testable directions.
+    pub testable: usize,
+    /// Partial directions.
+    pub partial: usize,
+    /// Blocked directions.
+    pub blocked: usize,
+    /// `testable / directions`.
+    pub fraction_testable: f64,
+    /// `partial / directions`.
+    pub fraction_partial: f64,
+    /// `blocked / directions`.
+    pub fraction_blocked: f64,
+    /// Directions per blocking cause (partial and blocked rays).
+    pub causes: BTreeMap<String, usize>,
+    /// Azimuths tried per ray.
+    pub azimuths: Vec<f64>,
+    /// Wall time of the quarter-sphere sweep (0 for rows resumed from an earlier run).
+    pub wall_seconds: f64,
+}
+
+/// Outcome of [`reach_survey`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReachSurvey {
+    /// Roll mode `fixed` (the paper's scheme).
+    pub roll_fixed: RollSummary,
+    /// Roll mode `motor`.
+    pub roll_motor: RollSummary,
+    /// Quarter-sphere rows of both modes (as in `reach.csv`: `fixed` first).
+    #[serde(skip)]
+    pub rows: Vec<ReachRow>,
+    /// ω = 0 fan rows of both modes (as in `reach_omega0.csv`).
+    #[serde(skip)]
+    pub fan: Vec<ReachRow>,
+}
+
+fn summary(rows: &[ReachRow], azimuths: &[f64], wall: f64) -> RollSummary {
+    let count = |c: ReachClass| rows.iter().filter(|r| r.class == c).count();
+    let mut causes: BTreeMap<String, usize> = BTreeMap::new();
+    for r in rows.iter().filter(|r| r.cause != Cause::None) {
+        *causes.entry(r.cause.as_str().to_string()).or_default() += 1;
+    }
+    let n = rows.len() as f64;
+    let (t, p, b) = (
+        count(ReachClass::Testable),
+        count(ReachClass::Partial),
+        count(ReachClass::Blocked),
+    );
+    RollSummary {
+        directions: rows.len(),
+        testable: t,
+        partial: p,
+        blocked: b,
+        fraction_testable: t as f64 / n,
+        fraction_partial: p as f64 / n,
+        fraction_blocked: b as f64 / n,
+        causes,
+        azimuths: azimuths.to_vec(),
+        wall_seconds: wall,
+    }
+}
+
+/// One driver sweep of `dirs` into `out/name` (checkpointed, resumable), read back as rows.
+fn sweep(
+    planner: &Planner,
+    dirs: &[Direction],
+    opts: &ReachOptions,
+    path: &Path,
+    resume: bool,
+) -> Result<(Vec<ReachRow>, String)> {
+    let mut so = SweepOptions::new(path, &REACH_HEADER, 3);
+    so.resume = resume;
+    so.progress = true;
+    sweep_reach::run(planner, dirs, None, opts, &so)?;
+    let text = std::fs::read_to_string(path).map_err(|source| crate::Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok((records::read_reach(path)?, text))
+}
+
+/// Stage 3: plan every quarter-sphere direction (boundary from the continuum test) in roll
+/// modes `fixed` and `motor`, azimuth 0, and the ω = 0 fan likewise. Each (set, mode) is one
+/// sweep-driver run into `reach_{fixed,motor}.csv` / `reach_omega0_{fixed,motor}.csv`
+/// (checkpointed; `resume` keeps finished rows); their concatenations are `reach.csv` and
+/// `reach_omega0.csv`. A planner error fails the stage (naming the direction).
+pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Result<ReachSurvey> {
+    let rig = Rig::load(&st.rig)?;
+    let planner = Planner::new(rig)?;
+    let quarter = fibonacci(st.reach_directions, true)?;
+    let fan: Vec<Direction> = omega0_fan(st.reach_fan_directions);
+    let mut csv = REACH_HEADER.join(",") + "\n";
+    let mut fan_csv = csv.clone();
+    let mut rows = Vec::new();
+    let mut fan_rows = Vec::new();
+    let mut summaries = Vec::new();
+    for (label, roll) in [("fixed", RollMode::Fixed), ("motor", RollMode::Motor)] {
+        let opts = ReachOptions {
+            roll,
+            azimuths: vec![0.0],
+        };
+        let t = Instant::now();
+        let (r, text) = sweep(
+            &planner,
+            &quarter,
+            &opts,
+            &out.join(format!("reach_{label}.csv")),
+            resume,
+        )?;
+        let wall = t.elapsed().as_secs_f64();
+        let (f, ftext) = sweep(
+            &planner,
+            &fan,
+            &opts,
+            &out.join(format!("reach_omega0_{label}.csv")),
+            resume,
+        )?;
+        let s = summary(&r, &opts.azimuths, wall);
+        log.say(
+            "reachability",
+            format!(
+                "roll {label}: {:.1} % testable, {:.1} % partial, {:.1} % blocked ({} directions, {wall:.1} s)",
+                100.0 * s.fraction_testable,
+                100.0 * s.fraction_partial,
+                100.0 * s.fraction_blocked,
+                s.directions
+            ),
+        );
+        // Concatenate without the repeated header.
+        csv.extend(text.lines().skip(1).map(|l| format!("{l}\n")));
+        fan_csv.extend(ftext.lines().skip(1).map(|l| format!("{l}\n")));
+        rows.extend(r);
+        fan_rows.extend(f);
+        summaries.push(s);
+    }
+    write(out, "reach.csv", &csv)?;
+    write(out, "reach_omega0.csv", &fan_csv)?;
+    let roll_motor = summaries.pop().expect("two roll modes");
+    let roll_fixed = summaries.pop().expect("two roll modes");
+    Ok(ReachSurvey {
+        roll_fixed,
+        roll_motor,
+        rows,
+        fan: fan_rows,
+    })
+}
