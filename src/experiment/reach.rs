@@ -89,7 +89,10 @@ fn sweep(
     resume: bool,
 ) -> Result<(Vec<ReachRow>, String)> {
     let mut so = SweepOptions::new(path, &REACH_HEADER, 3);
+    // A rerun of the study replaces its earlier sweeps (only once each is complete), unless it
+    // resumes them; resume refuses rows made with other settings (the driver's record).
     so.resume = resume;
+    so.force = !resume;
     so.progress = true;
     sweep_reach::run(planner, dirs, None, opts, &so)?;
     let text = std::fs::read_to_string(path).map_err(|source| crate::Error::Io {
@@ -146,9 +149,16 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
                 s.directions
             ),
         );
-        // Concatenate without the repeated header.
-        csv.extend(text.lines().skip(1).map(|l| format!("{l}\n")));
-        fan_csv.extend(ftext.lines().skip(1).map(|l| format!("{l}\n")));
+        // Concatenate the rows (without the settings record and the repeated header).
+        let body = |t: &str| -> String {
+            t.lines()
+                .filter(|l| !l.starts_with('#'))
+                .skip(1)
+                .map(|l| format!("{l}\n"))
+                .collect()
+        };
+        csv.push_str(&body(&text));
+        fan_csv.push_str(&body(&ftext));
         rows.extend(r);
         fan_rows.extend(f);
         summaries.push(s);
