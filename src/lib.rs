@@ -30,7 +30,7 @@
 //! | [`records`] | typed rows (boundary, reach, series, speed-vs-error, trajectory) and their CSV readers |
 //! | [`experiment`] | the whole study (the demo) as library stages with typed outcomes |
 //! | `plot` | (feature `plots`) figures from saved records |
-//! | [`progress`] | progress of long work on stderr (a bar on a terminal, plain lines otherwise) |
+//! | [`progress`] | the progress bar on stderr (feature `progress`; plain lines without it) |
 //!
 //! Features: `cli` (default: the binary, progress bars, plots), `plots`, `progress`, `interop`
 //! (k ↔ helixreach robots); `--no-default-features` builds the core alone. Formulas render with

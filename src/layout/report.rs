@@ -18,6 +18,7 @@ use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::math::{Real, DEG};
 use crate::planning::rig::Rig;
+#[cfg(feature = "plots")]
 use crate::plot::{layout_coverage, layout_directions, layout_heatmap};
 use crate::sweep::reach::fmt_real;
 use std::path::Path;
@@ -271,64 +272,69 @@ pub fn write_all(
         )?;
     }
 
-    // Figures.
-    let cells: Vec<layout_heatmap::Cell> = report.candidates[..report.n_grid]
-        .iter()
-        .zip(&report.covered)
-        .map(|(c, &n)| layout_heatmap::Cell {
-            x: c.origin[0],
-            y: c.origin[1],
-            fraction: n as Real / nd.max(1) as Real,
-        })
-        .collect();
-    let chosen: Vec<(Real, Real)> = report
-        .placements
-        .iter()
-        .map(|p| (p.pose.origin[0], p.pose.origin[1]))
-        .collect();
-    let refs: Vec<(Real, Real)> = report.candidates[report.n_grid..]
-        .iter()
-        .map(|c| (c.origin[0], c.origin[1]))
-        .collect();
-    let z = rig.clamp.translation.vector.z;
-    let dz = z - bound.centre.z;
-    let reach_r = (bound.radius * bound.radius - dz * dz).max(0.0).sqrt();
-    layout_heatmap::render(
-        &layout_heatmap::Heatmap {
-            cells,
-            chosen,
-            references: refs,
-            base: (bound.centre.x, bound.centre.y),
-            reach_radius: reach_r,
-            total: nd,
-        },
-        &dir.join("heatmap.png"),
-    )?;
-    let points: Vec<(Direction, Option<usize>)> = dirs
-        .iter()
-        .zip(&report.assignment)
-        .map(|(d, a)| (*d, a.as_ref().map(|(rank, _)| *rank)))
-        .collect();
-    layout_directions::render(
-        &points,
-        report.placements.len(),
-        &dir.join("directions.png"),
-    )?;
-    let curve: Vec<layout_coverage::Point> = report
-        .by_k
-        .iter()
-        .map(|c| layout_coverage::Point {
-            k: c.k,
-            greedy: c.greedy.covered,
-            exact: c.exact.covered,
-            proven: c.exact.proven,
-        })
-        .collect();
-    layout_coverage::render(
-        &curve,
-        nd,
-        report.reference.as_ref().map(|r| r.union),
-        &dir.join("coverage.png"),
-    )?;
+    // Figures (feature `plots`; the core build writes the CSVs only).
+    #[cfg(not(feature = "plots"))]
+    let _ = bound;
+    #[cfg(feature = "plots")]
+    {
+        let cells: Vec<layout_heatmap::Cell> = report.candidates[..report.n_grid]
+            .iter()
+            .zip(&report.covered)
+            .map(|(c, &n)| layout_heatmap::Cell {
+                x: c.origin[0],
+                y: c.origin[1],
+                fraction: n as Real / nd.max(1) as Real,
+            })
+            .collect();
+        let chosen: Vec<(Real, Real)> = report
+            .placements
+            .iter()
+            .map(|p| (p.pose.origin[0], p.pose.origin[1]))
+            .collect();
+        let refs: Vec<(Real, Real)> = report.candidates[report.n_grid..]
+            .iter()
+            .map(|c| (c.origin[0], c.origin[1]))
+            .collect();
+        let z = rig.clamp.translation.vector.z;
+        let dz = z - bound.centre.z;
+        let reach_r = (bound.radius * bound.radius - dz * dz).max(0.0).sqrt();
+        layout_heatmap::render(
+            &layout_heatmap::Heatmap {
+                cells,
+                chosen,
+                references: refs,
+                base: (bound.centre.x, bound.centre.y),
+                reach_radius: reach_r,
+                total: nd,
+            },
+            &dir.join("heatmap.png"),
+        )?;
+        let points: Vec<(Direction, Option<usize>)> = dirs
+            .iter()
+            .zip(&report.assignment)
+            .map(|(d, a)| (*d, a.as_ref().map(|(rank, _)| *rank)))
+            .collect();
+        layout_directions::render(
+            &points,
+            report.placements.len(),
+            &dir.join("directions.png"),
+        )?;
+        let curve: Vec<layout_coverage::Point> = report
+            .by_k
+            .iter()
+            .map(|c| layout_coverage::Point {
+                k: c.k,
+                greedy: c.greedy.covered,
+                exact: c.exact.covered,
+                proven: c.exact.proven,
+            })
+            .collect();
+        layout_coverage::render(
+            &curve,
+            nd,
+            report.reference.as_ref().map(|r| r.union),
+            &dir.join("coverage.png"),
+        )?;
+    }
     Ok(())
 }
