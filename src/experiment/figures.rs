@@ -1,9 +1,11 @@
 //! Stage 6 (feature `plots`): the figures of a study, PNG and SVG, from its typed outcomes, and
-//! `speed_error.csv`.
+//! `speed_error.csv`; with a planned trajectory also the render strip of robot, rod and scene
+//! ([`crate::plot::render::render_trajectory`]: `render_strip.png`/`.svg`, `render_frames.csv`).
 
 use super::{paper_directions, write, Log, StudyReport};
 use crate::directions::Direction;
 use crate::error::Result;
+use crate::planning::rig::Rig;
 use crate::plot;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -19,6 +21,7 @@ pub struct Figures {
 /// Draw every figure whose stage finished; a figure that cannot be drawn fails the stage.
 pub fn figures(report: &StudyReport, out: &Path, log: &Log) -> Result<Figures> {
     let mut files = Vec::new();
+    let mut render_files = Vec::new();
     let mut figure = |stem: &str, f: &dyn Fn(&Path) -> Result<()>| -> Result<()> {
         for ext in ["png", "svg"] {
             let name = format!("{stem}.{ext}");
@@ -55,6 +58,20 @@ pub fn figures(report: &StudyReport, out: &Path, log: &Log) -> Result<Figures> {
         figure("trajectory", &|p| {
             plot::trajectory::render(&t.rows, &opts, p)
         })?;
+        // The robot, rod and scene along the same trajectory (issue 14): the strip of
+        // snapshots at s = 0, ¼, ½, ¾ of s*, s*, the end and every reconfiguration.
+        let rig = Rig::load(&report.settings.rig)?;
+        let strip = plot::render::render_trajectory(
+            &rig,
+            &out.join("trajectory.csv"),
+            &plot::render::TrajectoryRender::default(),
+            out,
+        )?;
+        for p in [&strip.strip_png, &strip.strip_svg] {
+            let name = p.file_name().unwrap_or_default().to_string_lossy();
+            render_files.push(name.into_owned());
+        }
+        log.say("figures", "render_strip drawn");
     }
     let rows = report.speed_rows();
     if !rows.is_empty() {
@@ -70,5 +87,6 @@ pub fn figures(report: &StudyReport, out: &Path, log: &Log) -> Result<Figures> {
         write(out, "speed_error.csv", &csv)?;
         figure("speed_error", &|p| plot::speed_error::render(&rows, p))?;
     }
+    files.extend(render_files);
     Ok(Figures { files })
 }
