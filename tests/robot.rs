@@ -506,3 +506,51 @@ mod collision {
         assert_eq!(cm.name(c.b), "right_l4");
     }
 }
+
+/// Gap between two axis-aligned boxes (centre, half extents): the norm of the per-axis gaps.
+fn aabb_gap(c1: [Real; 3], h1: [Real; 3], c2: [Real; 3], h2: [Real; 3]) -> Real {
+    (0..3)
+        .map(|i| ((c1[i] - c2[i]).abs() - h1[i] - h2[i]).max(0.0).powi(2))
+        .sum::<Real>()
+        .sqrt()
+}
+
+/// Box–box clearance is exact. parry 0.25's `query::distance` overestimates cuboid–cuboid gaps
+/// whose closest features are edges (dimforge/parry#431): the seed rig's pedestal feet to its
+/// table read 0.2093 m for a true 0.1978 m. Reference: the analytic gap of the two axis-aligned
+/// boxes as the files state them (`robots/sawyer.urdf` pedestal_feet, `robots/sawyer-seed.toml`
+/// table).
+#[test]
+fn box_box_scene_clearance_equals_the_analytic_gap() {
+    use helixreach::planning::planner::Planner;
+    use helixreach::planning::rig::Rig;
+    use helixreach::robot::collision::BodyRef;
+    let planner = Planner::new(Rig::load("sawyer-seed").unwrap()).unwrap();
+    let c = planner.collision();
+    let mut ws = c.workspace();
+    // q = 0: the arm stretches forward far above the table; the feet are the closest body.
+    c.update(&[0.0; 7], &mut ws);
+    let contact = c.scene_clearance(&ws).unwrap();
+    let feet = planner
+        .model()
+        .links()
+        .iter()
+        .position(|l| l.name == "pedestal_feet")
+        .unwrap();
+    assert_eq!(
+        (contact.a, contact.b),
+        (BodyRef::Link(feet), BodyRef::Obstacle(0))
+    );
+    let want = aabb_gap(
+        [-0.1225, 0.0, -0.758],
+        [0.385, 0.35, 0.155],
+        [0.85, -0.15, -0.525],
+        [0.40, 0.50, 0.015],
+    );
+    assert!((want - 0.19780).abs() < 1e-4, "reference {want}");
+    assert!(
+        (contact.distance - want).abs() < 1e-9,
+        "scene clearance {} vs analytic {want}",
+        contact.distance
+    );
+}

@@ -549,9 +549,24 @@ impl CollisionModel {
                 (segment_distance_squared(&p1.a, &p1.b, &p2.a, &p2.b).sqrt() - r1 - r2).max(0.0)
             }
             _ => {
+                // Through parry's closest points, not `query::distance`: in parry 0.25 the
+                // cuboid–cuboid `distance` overestimates the gap when the closest features are
+                // edges (dimforge/parry#431; pedestal feet to the seed table: 0.2093 m for a
+                // true 0.1978 m), while `closest_points` has an exact cuboid–cuboid case.
                 let i1 = Self::iso(b1, p1);
                 let i2 = Self::iso(b2, p2);
-                query::distance(&i1, b1.parry.as_ref(), &i2, b2.parry.as_ref()).unwrap_or(0.0)
+                match query::closest_points(
+                    &i1,
+                    b1.parry.as_ref(),
+                    &i2,
+                    b2.parry.as_ref(),
+                    Real::MAX,
+                ) {
+                    Ok(query::ClosestPoints::WithinMargin(a, b)) => (a - b).norm(),
+                    Ok(query::ClosestPoints::Intersecting) => 0.0,
+                    _ => query::distance(&i1, b1.parry.as_ref(), &i2, b2.parry.as_ref())
+                        .unwrap_or(0.0),
+                }
             }
         }
     }
