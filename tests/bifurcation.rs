@@ -7,26 +7,11 @@
 //!   its jump, and not above the static return point (the quasi-static limit);
 //! - invariance: the type does not depend on c (ν = −0.25, 0.33, 0.5).
 
+mod common;
+use common::seed_data;
 use helixreach::bifurcation::{classify, BifurcationParams, BifurcationType};
 use helixreach::boundary::der::DerBoundaryParams;
 use helixreach::directions::Direction;
-use std::path::PathBuf;
-
-fn seed_data(file: &str) -> PathBuf {
-    let mut dirs = vec![PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data")];
-    if let Ok(d) = std::env::var("HELIXREACH_SEED_DATA") {
-        dirs.insert(0, PathBuf::from(d));
-    }
-    for d in &dirs {
-        let p = d.join(file);
-        if p.exists() {
-            return p;
-        }
-    }
-    panic!(
-        "seed data {file} not found in {dirs:?} (set HELIXREACH_SEED_DATA to the seed-data folder)"
-    );
-}
 
 fn labelled() -> Vec<(Direction, BifurcationType)> {
     let text = std::fs::read_to_string(seed_data("bifurcation_examples.csv")).unwrap();

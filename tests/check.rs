@@ -5,23 +5,15 @@
 //! frame conventions). The step statistics are compared with the figures `trajectories.csv`
 //! states for each run. Then: the CLI end to end, bad input, and trajectories that DO fail.
 
+mod common;
+use common::seed_dir;
 use helixreach::directions::Direction;
 use helixreach::planning::check::{
     CheckOptions, CheckReport, Checker, JointFile, JUMP, SEED_HELD_EDGES,
 };
 use helixreach::planning::rig::Rig;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
-
-fn seed_dir() -> PathBuf {
-    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data");
-    assert!(
-        d.join("trajectories.csv").is_file(),
-        "the seed data is missing at {} (these tests need it)",
-        d.display()
-    );
-    d
-}
 
 /// One run of `trajectories.csv`.
 struct Run {

@@ -5,28 +5,14 @@
 //! root; `HELIXREACH_SEED_DATA` may point elsewhere; the tests fail loudly when absent), and
 //! every kind of bad input.
 
+mod common;
+use common::seed_data;
 use helixreach::compare::{compare, match_boundary, read_measured, Measured};
 use helixreach::directions::Direction;
 use std::path::PathBuf;
 use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_helixreach");
-
-fn seed_data(file: &str) -> PathBuf {
-    let mut dirs = vec![PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data")];
-    if let Ok(d) = std::env::var("HELIXREACH_SEED_DATA") {
-        dirs.insert(0, PathBuf::from(d));
-    }
-    for d in &dirs {
-        let p = d.join(file);
-        if p.exists() {
-            return p;
-        }
-    }
-    panic!(
-        "seed data {file} not found in {dirs:?} (set HELIXREACH_SEED_DATA to the seed-data folder)"
-    );
-}
 
 fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
     let p = dir.path().join(name);

@@ -10,6 +10,8 @@
 //!
 //! The seed data is read from `../shared/seed-data/` relative to the crate root.
 
+mod common;
+use common::seed_dir;
 use helixreach::directions::Direction;
 use helixreach::helix::{discrete, Helix};
 use helixreach::math::{rot_z, Mat3, Real, Vec3};
@@ -19,17 +21,6 @@ use helixreach::robot::collision::RodGeometry;
 use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
-
-fn seed_dir() -> PathBuf {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data");
-    assert!(
-        p.join("trajectories.csv").is_file(),
-        "seed data missing: {} (CI keeps shared/ beside the clone)",
-        p.display()
-    );
-    p
-}
 
 /// One run of the seed: direction and its clamp position.
 struct SeedRun {
