@@ -9,7 +9,7 @@
 //! [`read_bifurcation`] (columns `dir_kappa,dir_tau,dir_omega,s_star,type,hysteresis`; others
 //! ignored), and labelled directions by [`read_labelled`] (`dir_kappa,dir_tau,dir_omega,type`).
 
-use super::direction_map::project;
+use super::direction_map::{disk_background, project};
 use super::style::{self, FAMILY};
 use super::{DrawResult, Figure};
 use crate::directions::Direction;
@@ -155,40 +155,14 @@ impl Figure for Map<'_> {
                 cy - (y * R as f64).round() as i32,
             )
         };
-        let (a0, a1) = if self.half {
-            (-90.0f64, 90.0f64)
-        } else {
-            (-180.0, 180.0)
-        };
-        let arc = |r: f64| -> Vec<(i32, i32)> {
-            (0..=180)
-                .map(|i| {
-                    let a = (a0 + (a1 - a0) * i as f64 / 180.0).to_radians();
-                    to_px(r * a.cos(), r * a.sin())
-                })
-                .collect()
-        };
-        let mut bg = arc(1.0);
-        if self.half {
-            bg.push((cx, cy));
-        }
-        root.draw(&Polygon::new(
-            bg.clone(),
-            RGBColor(0xf4, 0xf4, 0xf4).filled(),
-        ))?;
-        for kap in [0.25, 0.5, 0.75] {
-            let r = (1.0f64 - kap).sqrt();
-            root.draw(&PathElement::new(arc(r), style::GREY.stroke_width(1)))?;
-            let (lx, ly) = to_px(
-                r * (-40f64).to_radians().cos(),
-                r * (-40f64).to_radians().sin(),
-            );
-            root.draw(&Text::new(
-                format!("κ̂={kap}"),
-                (lx + 4, ly + 2),
-                font(style::TICK * 0.75),
-            ))?;
-        }
+        let bg = disk_background(
+            &root,
+            self.half,
+            (cx, cy),
+            &to_px,
+            "κ̂",
+            &font(style::TICK * 0.75),
+        )?;
         // Ratio guides τ/κ = 0.3, 0.5, 1 on the ω = 0 line are the x axis itself: tick them.
         for ratio in [0.3f64, 0.5, 1.0] {
             let d = Direction::new(1.0, ratio, 0.0).expect("finite");

@@ -225,40 +225,15 @@ impl Figure for DirectionMap {
                 centred(style::AXIS),
             ))?;
             // Background disk (or half-disk) and guides.
-            let (a0, a1) = if self.half {
-                (-90.0f64, 90.0f64)
-            } else {
-                (-180.0, 180.0)
-            };
-            let arc = |r: f64| -> Vec<(i32, i32)> {
-                (0..=180)
-                    .map(|i| {
-                        let a = (a0 + (a1 - a0) * i as f64 / 180.0).to_radians();
-                        to_px(r * a.cos(), r * a.sin())
-                    })
-                    .collect()
-            };
-            let mut bg = arc(1.0);
-            if self.half {
-                bg.push((cx, cy));
-            }
-            root.draw(&Polygon::new(
-                bg.clone(),
-                RGBColor(0xf4, 0xf4, 0xf4).filled(),
-            ))?;
-            for kap in [0.25, 0.5, 0.75] {
-                let r = (1.0f64 - kap).sqrt();
-                root.draw(&PathElement::new(arc(r), style::GREY.stroke_width(1)))?;
-                let (lx, ly) = to_px(
-                    r * (-40f64).to_radians().cos(),
-                    r * (-40f64).to_radians().sin(),
-                );
-                root.draw(&Text::new(
-                    format!("κ/s={kap}"),
-                    (lx + 4, ly + 2),
-                    font(style::TICK * 0.75).color(&style::darken(style::GREY, 0.3)),
-                ))?;
-            }
+            let (a0, a1) = disk_span(self.half);
+            let bg = disk_background(
+                &root,
+                self.half,
+                (cx, cy),
+                &to_px,
+                "κ/s",
+                &font(style::TICK * 0.75).color(&style::darken(style::GREY, 0.3)),
+            )?;
             let mut a = a0;
             while a <= a1 + 1e-9 {
                 let t = a.to_radians();
@@ -442,6 +417,58 @@ impl Figure for DirectionMap {
         }
         Ok(())
     }
+}
+
+/// Azimuth span (degrees) of the map: the half-disk τ ≥ 0 or the whole disk.
+pub(crate) fn disk_span(half: bool) -> (f64, f64) {
+    if half {
+        (-90.0, 90.0)
+    } else {
+        (-180.0, 180.0)
+    }
+}
+
+/// The map's grey background disk (or half-disk) and the κ guide circles at κ = 0.25, 0.5, 0.75
+/// labelled `{label}={κ}`; returns the outline, for the caller to stroke on top.
+pub(crate) fn disk_background<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    half: bool,
+    centre: (i32, i32),
+    to_px: &dyn Fn(f64, f64) -> (i32, i32),
+    label: &str,
+    label_style: &TextStyle<'_>,
+) -> std::result::Result<Vec<(i32, i32)>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let (a0, a1) = disk_span(half);
+    let arc = |r: f64| -> Vec<(i32, i32)> {
+        (0..=180)
+            .map(|i| {
+                let a = (a0 + (a1 - a0) * i as f64 / 180.0).to_radians();
+                to_px(r * a.cos(), r * a.sin())
+            })
+            .collect()
+    };
+    let mut bg = arc(1.0);
+    if half {
+        bg.push(centre);
+    }
+    root.draw(&Polygon::new(
+        bg.clone(),
+        RGBColor(0xf4, 0xf4, 0xf4).filled(),
+    ))?;
+    for kap in [0.25, 0.5, 0.75] {
+        let r = (1.0f64 - kap).sqrt();
+        root.draw(&PathElement::new(arc(r), style::GREY.stroke_width(1)))?;
+        let (lx, ly) = to_px(
+            r * (-40f64).to_radians().cos(),
+            r * (-40f64).to_radians().sin(),
+        );
+        root.draw(&Text::new(
+            format!("{label}={kap}"),
+            (lx + 4, ly + 2),
+            label_style.clone(),
+        ))?;
+    }
+    Ok(bg)
 }
 
 #[cfg(test)]
