@@ -615,3 +615,45 @@ fn bad_input_gives_clear_errors() {
         "no figure on error"
     );
 }
+
+/// The heat map's legend names the reach bound only when some of its circle lies inside the
+/// plotted window (the committed seed heat map listed a bound drawn nowhere).
+#[test]
+fn heatmap_legend_names_the_reach_bound_only_when_visible() {
+    use helixreach::plot::layout_heatmap::{render, Cell, Heatmap};
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let cells: Vec<Cell> = (0..4)
+        .flat_map(|i| {
+            (0..4).map(move |j| Cell {
+                x: 0.7 + 0.05 * i as f64,
+                y: -0.2 + 0.05 * j as f64,
+                fraction: (i + j) as f64 / 6.0,
+            })
+        })
+        .collect();
+    let mut h = Heatmap {
+        cells,
+        chosen: vec![(0.75, -0.1)],
+        references: vec![],
+        base: (0.0, 0.0),
+        reach_radius: 5.0,
+        total: 10,
+    };
+    let label = "reach bound at the clamp height";
+    let far = tmp.path().join("far.svg");
+    render(&h, &far).expect("render");
+    let text = std::fs::read_to_string(&far).expect("svg");
+    assert!(
+        !text.contains(label),
+        "bound 5 m away is listed in the legend"
+    );
+    // A radius of 0.8 m crosses the candidate block (x 0.7–0.85 m): visible, listed.
+    h.reach_radius = 0.8;
+    let near = tmp.path().join("near.svg");
+    render(&h, &near).expect("render");
+    let text = std::fs::read_to_string(&near).expect("svg");
+    assert!(
+        text.contains(label),
+        "visible bound missing from the legend"
+    );
+}

@@ -177,18 +177,26 @@ impl Figure for Map<'_> {
             )))?
             .label("robot base (first joint axis)")
             .legend(|(x, y)| Circle::new((x + 9, y), 8, style::GREY.filled()));
-        if self.h.reach_radius > 0.0 {
-            let pts = circle(self.h.reach_radius);
+        // Only dashes inside the plotted window (plotters would clip them onto the frame); the
+        // legend names the bound only when some of it is visible.
+        let dashes: Vec<Vec<(f64, f64)>> = if self.h.reach_radius > 0.0 {
+            circle(self.h.reach_radius)
+                .chunks(2)
+                .filter(|p| {
+                    p.iter()
+                        .all(|&(x, y)| x >= x0 && x <= x1 && y >= y0 && y <= y1)
+                })
+                .map(<[(f64, f64)]>::to_vec)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        if !dashes.is_empty() {
             chart
                 .draw_series(
-                    pts.chunks(2)
-                        // Only dashes inside the plotted window (plotters would clip them onto
-                        // the frame).
-                        .filter(|p| {
-                            p.iter()
-                                .all(|&(x, y)| x >= x0 && x <= x1 && y >= y0 && y <= y1)
-                        })
-                        .map(|p| PathElement::new(p.to_vec(), style::BLACK.stroke_width(2))),
+                    dashes
+                        .into_iter()
+                        .map(|p| PathElement::new(p, style::BLACK.stroke_width(2))),
                 )?
                 .label("reach bound at the clamp height")
                 .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style::BLACK));
