@@ -56,7 +56,11 @@ fn features(edges: &str) -> BTreeMap<String, String> {
 fn demo_and_test_builds_resolve_identical_features() {
     let demo = features("features,normal,build");
     let test = features("features,normal,build,dev");
-    assert!(demo.len() > 50, "cargo tree listed only {} crates", demo.len());
+    assert!(
+        demo.len() > 50,
+        "cargo tree listed only {} crates",
+        demo.len()
+    );
     assert!(demo.keys().any(|k| k.starts_with("serde ")));
     let differ: Vec<String> = demo
         .iter()

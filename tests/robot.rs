@@ -4,9 +4,9 @@
 
 use helixreach::math::{rotation_angle, Mat3, Real, Vec3};
 #[cfg(feature = "interop")]
-use helixreach::robot::k_bridge::KRobot;
+use helixreach::robot::{k_bridge::KRobot, Frame};
 use helixreach::robot::{
-    pose_from_xyz_wxyz, Frame, IkParams, IkSolver, IkTarget, Jacobian, RobotModel, MAX_DOF,
+    pose_from_xyz_wxyz, IkParams, IkSolver, IkTarget, Jacobian, RobotModel, MAX_DOF,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
