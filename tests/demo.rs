@@ -10,33 +10,23 @@
 //! `HELIXREACH_BLESS_GOLDEN=1 cargo test --release --features interop --test demo`.
 
 use serde_json::Value;
-use std::collections::HashSet;
 use std::path::Path;
 use std::process::Command;
+
+mod common;
+use common::png::Png;
 
 const BIN: &str = env!("CARGO_BIN_EXE_helixreach");
 
 /// (width, height, share of non-white pixels, distinct colours) of a PNG.
 fn png_stats(path: &Path) -> (u32, u32, f64, usize) {
-    let file = std::fs::File::open(path).unwrap();
-    let mut dec = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut buf = vec![0; dec.output_buffer_size()];
-    let info = dec.next_frame(&mut buf).unwrap();
-    let ch = match info.color_type {
-        png::ColorType::Rgb => 3,
-        png::ColorType::Rgba => 4,
-        other => panic!("unexpected PNG colour type {other:?}"),
-    };
-    let px: Vec<&[u8]> = buf[..info.buffer_size()].chunks(ch).collect();
-    let ink = px.iter().filter(|p| p[..3] != [255, 255, 255]).count() as f64 / px.len() as f64;
-    let colours = px
-        .iter()
-        .map(|p| [p[0], p[1], p[2]])
-        .collect::<HashSet<_>>()
-        .len();
-    (info.width, info.height, ink, colours)
+    let png = Png::read(path);
+    (
+        png.width,
+        png.height,
+        png.non_white_fraction(),
+        png.distinct_colours(),
+    )
 }
 
 fn finite_numbers(v: &Value, path: &str, out: &mut Vec<(String, f64)>) {

@@ -4,11 +4,13 @@
 //! colours), shows the categorical colours the data call for; the SVG carries the axis texts
 //! in the embedded font family. Bad input gives errors that name the file, column and value.
 
-use std::collections::HashSet;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
+
+mod common;
+use common::png::Png;
 
 const BIN: &str = env!("CARGO_BIN_EXE_helixreach");
 
@@ -17,46 +19,7 @@ const GREEN: [u8; 3] = [0x00, 0x9E, 0x73];
 /// Okabe–Ito vermillion: blocked by a joint limit / joint-limit lines.
 const VERMILLION: [u8; 3] = [0xD5, 0x5E, 0x00];
 
-struct Png {
-    width: u32,
-    height: u32,
-    rgb: Vec<[u8; 3]>,
-}
-
-fn decode_png(path: &Path) -> Png {
-    let file = std::fs::File::open(path).unwrap();
-    let mut dec = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut buf = vec![0; dec.output_buffer_size()];
-    let info = dec.next_frame(&mut buf).unwrap();
-    let ch = match info.color_type {
-        png::ColorType::Rgb => 3,
-        png::ColorType::Rgba => 4,
-        other => panic!("unexpected PNG colour type {other:?}"),
-    };
-    assert_eq!(info.bit_depth, png::BitDepth::Eight);
-    let rgb = buf[..info.buffer_size()]
-        .chunks(ch)
-        .map(|p| [p[0], p[1], p[2]])
-        .collect();
-    Png {
-        width: info.width,
-        height: info.height,
-        rgb,
-    }
-}
-
 impl Png {
-    fn non_white_fraction(&self) -> f64 {
-        self.rgb.iter().filter(|p| **p != [255, 255, 255]).count() as f64 / self.rgb.len() as f64
-    }
-    fn distinct_colours(&self) -> usize {
-        self.rgb.iter().collect::<HashSet<_>>().len()
-    }
-    fn count(&self, c: [u8; 3]) -> usize {
-        self.rgb.iter().filter(|p| **p == c).count()
-    }
     /// Share of non-white pixels in a `px`-wide frame along the image border (clipping check:
     /// a figure that runs off the canvas leaves ink on its border).
     fn border_ink(&self, px: u32) -> f64 {
@@ -364,7 +327,7 @@ impl Fixture {
             .filter(|e| e.file_name().to_string_lossy().contains(".tmp"))
             .collect();
         assert!(leftovers.is_empty(), "temp files left: {leftovers:?}");
-        let png = decode_png(&png_path.unwrap());
+        let png = Png::read(&png_path.unwrap());
         assert!(
             png.width >= 800 && png.height >= 700,
             "{kind}: {}x{}",

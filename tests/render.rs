@@ -16,7 +16,9 @@ use helixreach::robot::collision::{ObstaclePose, ObstacleShape, SceneObstacle};
 use helixreach::robot::k_bridge::KRobot;
 use helixreach::robot::Shape;
 use rand::SeedableRng;
-use std::path::Path;
+
+mod common;
+use common::png::Png;
 
 const BIN: &str = env!("CARGO_BIN_EXE_helixreach");
 /// A configuration the seed's Sawyer executed (the module docs of `robot`).
@@ -100,40 +102,6 @@ fn projected_capsules_agree_with_k_forward_kinematics() {
         }
     }
     assert!(checked >= 5 * 8, "only {checked} capsules checked");
-}
-
-struct Png {
-    width: u32,
-    height: u32,
-    rgb: Vec<[u8; 3]>,
-}
-
-impl Png {
-    fn read(path: &Path) -> Png {
-        let file = std::fs::File::open(path).unwrap();
-        let mut dec = png::Decoder::new(std::io::BufReader::new(file))
-            .read_info()
-            .unwrap();
-        let mut buf = vec![0; dec.output_buffer_size()];
-        let info = dec.next_frame(&mut buf).unwrap();
-        let ch = match info.color_type {
-            png::ColorType::Rgb => 3,
-            png::ColorType::Rgba => 4,
-            other => panic!("unexpected PNG colour type {other:?}"),
-        };
-        Png {
-            width: info.width,
-            height: info.height,
-            rgb: buf[..info.buffer_size()]
-                .chunks(ch)
-                .map(|p| [p[0], p[1], p[2]])
-                .collect(),
-        }
-    }
-    fn at(&self, p: (i32, i32)) -> [u8; 3] {
-        assert!(p.0 >= 0 && p.1 >= 0 && (p.0 as u32) < self.width && (p.1 as u32) < self.height);
-        self.rgb[p.1 as usize * self.width as usize + p.0 as usize]
-    }
 }
 
 #[test]

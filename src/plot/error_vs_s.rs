@@ -72,17 +72,11 @@ impl Figure for ErrorVsS<'_> {
             .x_label_area_size(80)
             .y_label_area_size(110)
             .build_cartesian_2d(s_lo..s_hi, e_lo..e_hi)?;
-        chart
-            .configure_mesh()
-            .x_desc("distance along the ray ‖S‖ = s")
-            .y_desc("helix error e")
-            .axis_desc_style((FAMILY, style::AXIS))
-            .label_style((FAMILY, style::TICK))
-            .x_label_formatter(&style::fmt_tick)
-            .y_label_formatter(&style::fmt_tick)
-            .bold_line_style(style::LIGHT_GREY)
-            .light_line_style(TRANSPARENT)
-            .draw()?;
+        super::draw_axes(
+            &mut chart,
+            "distance along the ray ‖S‖ = s",
+            "helix error e",
+        )?;
 
         for (i, s) in self.series.iter().enumerate() {
             let c = style::series(i);
@@ -119,14 +113,7 @@ impl Figure for ErrorVsS<'_> {
                 ))?;
             }
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font((FAMILY, style::LEGEND))
-            .background_style(WHITE.mix(0.9))
-            .border_style(style::GREY)
-            .margin(12)
-            .draw()?;
+        super::draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         Ok(())
     }
 }

@@ -123,14 +123,7 @@ impl Figure for Curve<'_> {
                     PathElement::new(vec![(x, y), (x + 22, y)], style::GREY.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .label_font((FAMILY, style::LEGEND))
-            .background_style(WHITE.mix(0.9))
-            .border_style(style::GREY)
-            .margin(12)
-            .draw()?;
+        super::draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
         Ok(())
     }
 }

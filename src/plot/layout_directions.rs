@@ -113,14 +113,7 @@ impl Figure for Map<'_> {
                 ))
                 .legend(move |(x, y)| Circle::new((x + 9, y), 7, c.filled()));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font((FAMILY, style::LEGEND))
-            .background_style(WHITE.mix(0.9))
-            .border_style(style::GREY)
-            .margin(10)
-            .draw()?;
+        super::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         Ok(())
     }
 }

@@ -220,14 +220,7 @@ impl Figure for Map<'_> {
                     + Text::new(format!("{}", i + 1), (-6, -10), font.clone()),
             ))?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font((FAMILY, style::LEGEND))
-            .background_style(WHITE.mix(0.9))
-            .border_style(style::GREY)
-            .margin(10)
-            .draw()?;
+        super::draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         let (_, hpx) = root.dim_in_pixel();
         root.draw(&Text::new(
             format!(

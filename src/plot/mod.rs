@@ -60,6 +60,7 @@ pub use records::{
 };
 
 use crate::error::{Error, Result};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -101,6 +102,45 @@ impl Format {
 /// Result of drawing on a backend.
 pub(crate) type DrawResult<DB> =
     std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+/// The house legend: a white, grey-bordered box of the series labels at `pos`.
+pub(crate) fn draw_legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    pos: SeriesLabelPosition,
+) -> DrawResult<DB>
+where
+    DB: DrawingBackend + 'a,
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .position(pos)
+        .label_font((style::FAMILY, style::LEGEND))
+        .background_style(WHITE.mix(0.9))
+        .border_style(style::GREY)
+        .margin(12)
+        .draw()
+}
+
+/// The house axes of a linear chart: axis titles, tick labels by [`style::fmt_tick`], light grey
+/// major grid, no minor grid.
+pub(crate) fn draw_axes<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    x_desc: &str,
+    y_desc: &str,
+) -> DrawResult<DB> {
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .axis_desc_style((style::FAMILY, style::AXIS))
+        .label_style((style::FAMILY, style::TICK))
+        .x_label_formatter(&style::fmt_tick)
+        .y_label_formatter(&style::fmt_tick)
+        .bold_line_style(style::LIGHT_GREY)
+        .light_line_style(TRANSPARENT)
+        .draw()
+}
 
 /// A figure ready to draw: validated data and layout, independent of the backend.
 pub(crate) trait Figure {

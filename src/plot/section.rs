@@ -276,17 +276,7 @@ impl Figure for Section {
                 .x_label_area_size(70)
                 .y_label_area_size(90)
                 .build_cartesian_2d(0.0..k_hi, -t_abs..t_abs)?;
-            chart
-                .configure_mesh()
-                .x_desc("curvature κ")
-                .y_desc("torsion τ")
-                .axis_desc_style((FAMILY, style::AXIS))
-                .label_style((FAMILY, style::TICK))
-                .x_label_formatter(&style::fmt_tick)
-                .y_label_formatter(&style::fmt_tick)
-                .bold_line_style(style::LIGHT_GREY)
-                .light_line_style(TRANSPARENT)
-                .draw()?;
+            super::draw_axes(&mut chart, "curvature κ", "torsion τ")?;
             let clip = |p: (f64, f64)| (p.0.min(k_hi), p.1.clamp(-t_abs, t_abs));
             // Stable region.
             let mut poly = vec![(0.0, 0.0)];

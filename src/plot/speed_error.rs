@@ -156,14 +156,7 @@ impl Figure for SpeedError<'_> {
                     + Text::new(r.resolution.clone(), (10, -24), label_font.clone())
             }))?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .label_font((FAMILY, style::LEGEND))
-            .background_style(WHITE.mix(0.9))
-            .border_style(style::GREY)
-            .margin(12)
-            .draw()?;
+        super::draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
         if any_zero {
             let (_, h) = root.dim_in_pixel();
             root.draw(&Text::new(

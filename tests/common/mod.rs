@@ -4,6 +4,8 @@
 //! the folder named by `HELIXREACH_SEED_DATA`. A missing folder fails the test loudly: the tests
 //! that read it assert facts about the real rig and must not pass without it.
 
+pub mod png;
+
 use std::path::PathBuf;
 
 /// The seed-data folder (holding `trajectories.csv`); panics naming where it looked.
