@@ -40,7 +40,11 @@
 //! - the mode is not odd: the asymmetry `|a|·d₁/|b·d₁²/3|`, with `d₁` the amplitude at
 //!   `s/s* − 1 = 1 %`, exceeds [`ASYMMETRY_MAX`];
 //! - `|b|` is below three times its finite-difference error (the quartic term does not decide);
-//! - no helical equilibrium was found just below s* (the helical branch ends at a fold).
+//! - no helical equilibrium was found just below s* (the helical branch ends at a fold);
+//! - the ray could not be decided numerically: s* not found or refused by the DER boundary
+//!   (resolution, extensibility, stable to `s_max`; then `s_star` is NaN), or the reduction's
+//!   constrained Newton converged at none of its amplitudes. The reason names the failure;
+//!   [`classify`] never fails on a valid direction, so one hard ray never stops a sweep.
 //!
 //! ```no_run
 //! use helixreach::bifurcation::{classify, BifurcationParams, BifurcationType};
@@ -182,10 +186,57 @@ impl Bifurcation {
 /// The bifurcation type, coefficient and (optionally) the static return point of the ray
 /// `dir` (see the module docs).
 ///
-/// Errors: invalid parameters or direction; a ray stable to `s_max`; a Newton failure.
+/// One hard direction never fails a sweep: whatever cannot be decided numerically on this
+/// ray — s* not found or refused (resolution, extensibility, stable to `s_max`), no helical
+/// equilibrium below s*, a reduction whose constrained Newton does not converge at any of
+/// the amplitudes [`reduction::AMPLITUDE`]·(1, ½, ¼) — is a `degenerate` result whose
+/// `reason` says what failed (`s_star` is NaN when s* itself was not found).
+///
+/// Errors: invalid parameters or direction only.
 pub fn classify(dir: &Direction, p: &BifurcationParams) -> Result<Bifurcation> {
     p.validate()?;
     let dir = Direction::new(dir.kappa, dir.tau, dir.omega)?;
+    let mut s_star = Real::NAN;
+    match classify_ray(&dir, p, &mut s_star) {
+        Ok(b) => Ok(b),
+        Err(e) => Ok(degenerate(
+            if s_star.is_nan() {
+                format!("no DER s*: {e}")
+            } else {
+                format!("not decided: {e}")
+            },
+            s_star,
+        )),
+    }
+}
+
+/// A `degenerate` result with its reason and nothing else known but (perhaps) s*.
+fn degenerate(reason: String, s_star: Real) -> Bifurcation {
+    Bifurcation {
+        s_star,
+        kind: BifurcationType::Degenerate,
+        reason,
+        coefficient: Real::NAN,
+        b: Real::NAN,
+        b_error: Real::NAN,
+        a: Real::NAN,
+        dlambda_ds: Real::NAN,
+        asymmetry: Real::NAN,
+        s_return: Real::NAN,
+        s_return_uncertainty: Real::NAN,
+    }
+}
+
+/// Amplitudes tried by [`classify`], as fractions of [`reduction::AMPLITUDE`].
+const AMPLITUDE_FRACTIONS: [Real; 3] = [1.0, 0.5, 0.25];
+
+/// [`classify`] on a validated direction; `s_star_out` receives s* as soon as it is known.
+fn classify_ray(
+    dir: &Direction,
+    p: &BifurcationParams,
+    s_star_out: &mut Real,
+) -> Result<Bifurcation> {
+    let dir = *dir;
     let der = p.der;
     let c = twist_ratio(der.nu)?;
     let mut ray = DerRay::new(&dir, &der)?;
@@ -203,19 +254,7 @@ pub fn classify(dir: &Direction, p: &BifurcationParams) -> Result<Bifurcation> {
             format!("stable up to s_max = {}: no bifurcation", der.s_max),
         ));
     }
-    let degenerate = |reason: String, s_star| Bifurcation {
-        s_star,
-        kind: BifurcationType::Degenerate,
-        reason,
-        coefficient: Real::NAN,
-        b: Real::NAN,
-        b_error: Real::NAN,
-        a: Real::NAN,
-        dlambda_ds: Real::NAN,
-        asymmetry: Real::NAN,
-        s_return: Real::NAN,
-        s_return_uncertainty: Real::NAN,
-    };
+    *s_star_out = s_star;
     // The helix equilibrium just below s* and two more points for dλ/ds.
     let s0 = s_star - 2.0 * crit.est_error.max(1e-12 * s_star);
     let free = ray.rod().free_range_clamped();
@@ -249,7 +288,21 @@ pub fn classify(dir: &Direction, p: &BifurcationParams) -> Result<Bifurcation> {
     }
     let base = base.expect("evaluated");
     let rod = ray.rod().clone();
-    let red = reduction::reduce(&rod, &base, free, &mut ws)?;
+    let mut red = Err(Error::invalid("amplitude", "", "no amplitude tried"));
+    for f in AMPLITUDE_FRACTIONS {
+        red = reduction::reduce_with_amplitude(
+            &rod,
+            &base,
+            free.clone(),
+            &mut ws,
+            f * reduction::AMPLITUDE,
+        );
+        match &red {
+            Err(Error::NotConverged { .. }) => continue,
+            _ => break,
+        }
+    }
+    let red = red?;
     lambdas[0] = red.mode.lambda;
     let ds = s0 * DLAMBDA_STEP;
     let dlambda = (3.0 * lambdas[0] - 4.0 * lambdas[1] + lambdas[2]) / (2.0 * ds);
@@ -308,7 +361,7 @@ pub fn classify(dir: &Direction, p: &BifurcationParams) -> Result<Bifurcation> {
                 Err(Error::NotConverged { what, .. }) => {
                     out.reason = format!("no static s_return: {what}");
                 }
-                Err(e) => return Err(e),
+                Err(e) => out.reason = format!("no static s_return: {e}"),
             }
         }
     }

@@ -153,7 +153,20 @@ fn position_norm(v: &[Real], n_edges: usize) -> Real {
 }
 
 /// Newton iterations of the constrained minimization.
-const CONSTRAINED_ITERS: usize = 30;
+const CONSTRAINED_ITERS: usize = 40;
+/// Step halvings of the constrained Newton's line search.
+const CONSTRAINED_HALVINGS: usize = 20;
+/// Convergence of the constrained Newton on its step (length units / radians).
+const CONSTRAINED_STEP_TOL: Real = 1e-13;
+/// Convergence of the constrained Newton on the projected residual, relative to
+/// `k_b + ‖g‖∞` (as [`crate::rod::statics::NewtonParams::rel_residual_tol`], tighter: the
+/// energies differ by ~b·x⁴/24 only).
+const CONSTRAINED_REL_RESIDUAL: Real = 1e-12;
+/// Round-off of the stretching force in units of `k_s·ε` (as in [`crate::rod::statics`]).
+const STRETCH_ROUNDOFF: Real = 16.0;
+/// An iterate whose residual is within this factor of the round-off floor is accepted when
+/// the line search can no longer reduce it.
+const FLOOR_FACTOR: Real = 1e3;
 
 /// The rod's equilibrium under one linear constraint on the node positions,
 /// `cᵀ(x − x₀) = ξ` (`c` a unit vector on the position DOFs): the minimum of E over that
@@ -161,11 +174,27 @@ const CONSTRAINED_ITERS: usize = 30;
 /// banded LDLᵀ of H (`dq = H⁻¹(−g) − μH⁻¹c`, `μ` so that `cᵀdq = 0`), reference frames
 /// updated after every iterate, as in [`crate::rod::statics::solve`]. The constraint is on
 /// positions only, so it does not depend on the reference-frame chart of the twist angles.
+///
+/// Convergence is judged, as in [`crate::rod::statics::solve`], on the residual projected
+/// onto the constraint hyperplane, `r = g − (cᵀg)c` (at the constrained minimum `g ∥ c`),
+/// with the round-off floor `16·k_s·ε` of the stiff stretching force: a criterion on the step
+/// alone never holds when that round-off, divided by a soft eigenvalue, exceeds it (it made
+/// the reduction abort a quarter-sphere sweep at (0.535, 0.07, −0.842)). Every step
+/// backtracks (halving) until the projected residual decreases.
 struct ConstrainedMin {
     st: Option<RodState>,
+    trial: Option<RodState>,
     u: Vec<Real>,
     v: Vec<Real>,
     free: Range<usize>,
+    /// Newton iterations of the last solve.
+    iterations: usize,
+}
+
+/// `‖g − (cᵀg)c‖∞` over the free DOFs.
+fn projected_residual(g: &[Real], c: &[Real], free: Range<usize>) -> Real {
+    let cg: Real = free.clone().map(|k| c[k] * g[k]).sum();
+    free.map(|k| (g[k] - cg * c[k]).abs()).fold(0.0, Real::max)
 }
 
 impl ConstrainedMin {
@@ -174,9 +203,11 @@ impl ConstrainedMin {
         let _ = rod;
         ConstrainedMin {
             st: None,
+            trial: None,
             u: vec![0.0; m],
             v: vec![0.0; m],
             free,
+            iterations: 0,
         }
     }
 
@@ -198,6 +229,7 @@ impl ConstrainedMin {
     ) -> Result<Real> {
         let free = self.free.clone();
         let mut st = self.st.take().unwrap_or_else(|| base.clone());
+        let mut trial = self.trial.take().unwrap_or_else(|| base.clone());
         st.copy_from(start);
         let mut off = 0.0;
         for k in free.clone() {
@@ -223,20 +255,58 @@ impl ConstrainedMin {
                 "degenerate constrained rod",
             ));
         }
-        let mut result = Err(Error::NotConverged {
-            what: "constrained minimization along the critical mode".into(),
-            iterations: CONSTRAINED_ITERS,
-            residual: Real::NAN,
+        let result = self.newton(rod, &mut st, &mut trial, c, ws);
+        self.iterations = match &result {
+            Ok(it) => *it,
+            Err(_) => CONSTRAINED_ITERS,
+        };
+        let result = result.map(|_| {
+            out.copy_from(&st);
+            energy::energy(rod, &st)
         });
+        self.st = Some(st);
+        self.trial = Some(trial);
+        result
+    }
+
+    /// Newton iterations from `st` (on the constraint) to the constrained minimum; returns the
+    /// iterations spent.
+    fn newton(
+        &mut self,
+        rod: &Rod,
+        st: &mut RodState,
+        trial: &mut RodState,
+        c: &[Real],
+        ws: &mut Workspace,
+    ) -> Result<usize> {
+        let free = self.free.clone();
+        let not_converged = |it, res, what: &str| Error::NotConverged {
+            what: format!("constrained minimization along the critical mode: {what}"),
+            iterations: it,
+            residual: res,
+        };
+        let mut last_res = Real::INFINITY;
         for it in 0..CONSTRAINED_ITERS {
-            energy::energy_gradient_hessian(rod, &st, &mut ws.grad, &mut ws.hess);
+            energy::energy_gradient_hessian(rod, st, &mut ws.grad, &mut ws.hess);
+            let res = projected_residual(&ws.grad, c, free.clone());
+            let gmax = ws.grad.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+            let scale = (rod.material.bend + gmax).max(
+                STRETCH_ROUNDOFF * rod.material.stretch * Real::EPSILON / CONSTRAINED_REL_RESIDUAL,
+            );
+            if !res.is_finite() {
+                return Err(not_converged(it, res, "non-finite residual"));
+            }
+            if res <= CONSTRAINED_REL_RESIDUAL * scale {
+                return Ok(it);
+            }
+            let at_floor = res <= FLOOR_FACTOR * CONSTRAINED_REL_RESIDUAL * scale;
+            if it >= 3 && res >= 0.5 * last_res && at_floor {
+                return Ok(it);
+            }
+            last_res = res;
             ws.ldlt
                 .factor(&ws.hess, free.clone())
-                .map_err(|e| Error::NotConverged {
-                    what: format!("constrained minimization ({e})"),
-                    iterations: it,
-                    residual: e.pivot,
-                })?;
+                .map_err(|e| not_converged(it, e.pivot, &format!("singular Hessian ({e})")))?;
             for (i, k) in free.clone().enumerate() {
                 self.u[i] = -ws.grad[k];
                 self.v[i] = c[k];
@@ -255,36 +325,77 @@ impl ConstrainedMin {
                 .sum();
             let mu = cu / cv;
             let mut step: Real = 0.0;
-            for (i, k) in free.clone().enumerate() {
-                let d = self.u[i] - mu * self.v[i];
-                st.q[k] += d;
-                step = step.max(d.abs());
+            for i in 0..free.len() {
+                self.u[i] -= mu * self.v[i];
+                step = step.max(self.u[i].abs());
             }
-            if !st.update_reference() || !step.is_finite() {
-                break;
+            if !step.is_finite() {
+                return Err(not_converged(it, res, "non-finite step"));
             }
-            if step <= 1e-13 {
-                result = Ok(energy::energy(rod, &st));
-                out.copy_from(&st);
-                break;
+            if step <= CONSTRAINED_STEP_TOL {
+                return Ok(it);
             }
+            // Backtracking on the projected residual (the step keeps cᵀq fixed for any length).
+            let mut alpha = 1.0;
+            let mut accepted = false;
+            for _ in 0..=CONSTRAINED_HALVINGS {
+                trial.copy_from(st);
+                for (i, k) in free.clone().enumerate() {
+                    trial.q[k] += alpha * self.u[i];
+                }
+                if trial.update_reference() {
+                    energy::gradient(rod, trial, &mut ws.grad);
+                    let r = projected_residual(&ws.grad, c, free.clone());
+                    if r.is_finite() && r < res {
+                        accepted = true;
+                        break;
+                    }
+                }
+                alpha *= 0.5;
+            }
+            if !accepted {
+                if at_floor {
+                    return Ok(it);
+                }
+                return Err(not_converged(it, res, "line search"));
+            }
+            st.copy_from(trial);
         }
-        self.st = Some(st);
-        result
+        Err(not_converged(CONSTRAINED_ITERS, last_res, "iterations"))
     }
 }
 
-/// The Koiter reduction at the equilibrium `base` (see the module docs).
+/// The Koiter reduction at the equilibrium `base` (see the module docs), with the
+/// finite-difference amplitude [`AMPLITUDE`].
 pub fn reduce(
     rod: &Rod,
     base: &RodState,
     free: Range<usize>,
     ws: &mut Workspace,
 ) -> Result<Reduction> {
+    reduce_with_amplitude(rod, base, free, ws, AMPLITUDE)
+}
+
+/// [`reduce`] with the largest node displacement of the first finite-difference amplitude
+/// given (units of L; [`AMPLITUDE`] by default; the fits use up to 4× it).
+pub fn reduce_with_amplitude(
+    rod: &Rod,
+    base: &RodState,
+    free: Range<usize>,
+    ws: &mut Workspace,
+    amplitude: Real,
+) -> Result<Reduction> {
+    if !(amplitude > 0.0 && amplitude <= 0.1) {
+        return Err(Error::invalid(
+            "amplitude",
+            amplitude,
+            "must lie in (0, 0.1]",
+        ));
+    }
     let mode = critical_mode(rod, base, free.clone(), ws)?;
     let nd = rod.n_dofs();
     let phi = &mode.phi;
-    let h = AMPLITUDE / mode.max_node.max(1e-300);
+    let h = amplitude / mode.max_node.max(1e-300);
     let mut scratch = base.clone();
     let mut dq = vec![0.0; nd];
     // r = E'''[φ, φ, ·] on the free DOFs.

@@ -5,8 +5,11 @@
 //! `dir_kappa,dir_tau,dir_omega,s_star,type,coefficient,s_return,hysteresis,resolution,reason`
 //! (rows in input order; `coefficient > 0` ⇔ supercritical, see the library docs; `s_return`
 //! and `hysteresis = s_star − s_return` empty when not computed; `reason` explains a
-//! `degenerate` row). Parallel over directions, checkpointed, resumable and shardable through
-//! `helixreach::sweep::driver`.
+//! `degenerate` row, and why `s_return` is missing on a subcritical one; `s_star` is empty when
+//! the DER s* itself was not found). A direction that cannot be decided is such a row, never an
+//! abort of the sweep (`helixreach::bifurcation::classify`). Parallel over directions,
+//! checkpointed, resumable (same settings) and shardable through `helixreach::sweep::driver`;
+//! an existing `--out` is replaced only with `--force`.
 
 use super::boundary::{dir_key, fmt_real};
 use anyhow::{bail, Context};
@@ -57,14 +60,18 @@ pub struct Args {
     /// Relative resolution of s_return.
     #[arg(long, default_value_t = 1e-3)]
     pub return_tol: Real,
-    /// Keep rows of an existing --out and compute only the missing directions.
+    /// Continue an existing --out (or its checkpoint OUT.partial) made with the same settings:
+    /// compute only the missing directions.
     #[arg(long)]
     pub resume: bool,
+    /// Replace an existing --out (it is kept until the new result is complete).
+    #[arg(long)]
+    pub force: bool,
     /// Process only block I (0-based) of N contiguous blocks of the directions.
     #[arg(long)]
     pub shard: Option<Shard>,
-    /// Seconds between checkpoints of --out.
-    #[arg(long, default_value_t = 10.0)]
+    /// Seconds between checkpoints (to OUT.partial).
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     pub checkpoint_secs: f64,
     /// Output CSV.
     #[arg(long)]
@@ -82,7 +89,7 @@ pub fn row(d: &Direction, b: &Bifurcation, resolution: &str) -> Vec<String> {
     };
     let mut v = dir_key(d);
     v.extend([
-        fmt_real(b.s_star),
+        opt(b.s_star),
         b.kind.name().to_string(),
         opt(b.coefficient),
         opt(b.s_return),
@@ -95,23 +102,25 @@ pub fn row(d: &Direction, b: &Bifurcation, resolution: &str) -> Vec<String> {
 
 /// Run `helixreach bifurcation`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let dirs = match (&a.directions, a.fibonacci) {
-        (Some(p), _) => directions::read_csv(p)?,
-        (None, Some(n)) => directions::fibonacci(n, a.quarter)?,
-        (None, None) => bail!("give --directions FILE.csv or --fibonacci N"),
-    };
-    if dirs.len() > 10_000_000 {
-        bail!("invalid direction count {}: at most 10^7", dirs.len());
-    }
-    if !(a.checkpoint_secs.is_finite() && a.checkpoint_secs >= 0.0) {
+    use helixreach::limits::{check_size, MAX_CHECKPOINT_SECS, MAX_DIRECTIONS, MAX_N_EDGES};
+    // Cheap checks first: a bad output path or size fails before any computation.
+    check_size("--n-edges", a.n_edges, MAX_N_EDGES)?;
+    helixreach::io::check_output(&a.out)?;
+    if !(a.checkpoint_secs.is_finite() && (0.0..=MAX_CHECKPOINT_SECS).contains(&a.checkpoint_secs))
+    {
         bail!(
-            "invalid --checkpoint-secs {}: must be >= 0",
-            a.checkpoint_secs
+            "invalid --checkpoint-secs {}: must be in 0..={MAX_CHECKPOINT_SECS} (helixreach::limits)",
+            helixreach::error::fmt_num(a.checkpoint_secs)
         );
     }
-    if a.n_edges > 2000 {
-        bail!("invalid --n-edges {}: at most 2000", a.n_edges);
-    }
+    let dirs = match (&a.directions, a.fibonacci) {
+        (Some(p), _) => directions::read_csv(p)?,
+        (None, Some(n)) => {
+            directions::fibonacci(check_size("--fibonacci", n, MAX_DIRECTIONS)?, a.quarter)?
+        }
+        (None, None) => bail!("give --directions FILE.csv or --fibonacci N"),
+    };
+    check_size("directions", dirs.len(), MAX_DIRECTIONS)?;
     let p = BifurcationParams {
         der: DerBoundaryParams {
             n_edges: a.n_edges,
@@ -124,8 +133,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     p.validate().context("bifurcation parameters")?;
     let resolution = format!("n={}", a.n_edges);
-    let mut opts = SweepOptions::new(&a.out, &HEADER, 3);
+    let mut opts = SweepOptions::new(&a.out, &HEADER, 3)
+        .sweep("bifurcation")
+        .setting("resolution", &resolution)
+        .setting("nu", a.nu)
+        .setting("statics_return", p.statics_return)
+        .setting("return_tol", a.return_tol);
     opts.resume = a.resume;
+    opts.force = a.force;
     opts.shard = a.shard;
     opts.checkpoint_interval = Duration::from_secs_f64(a.checkpoint_secs);
     opts.progress = true;
