@@ -1,0 +1,182 @@
+//! Which link pairs the self-collision check skips: links of one rigid group (joined by fixed
+//! or frozen joints), links joined by a joint (adjacent), and the pairs of a [`DisabledPairs`]
+//! list — the pairs found never (or always) in collision over many random configurations,
+//! computed once by [`DisabledPairs::compute`] and stored beside the URDF as
+//! `<robot>.collision.toml` (like an SRDF's disabled collisions).
+
+use super::narrow::{intersects, Body, Owner, Part};
+use super::CollisionModel;
+use crate::error::{Error, Result};
+use crate::robot::model::{LinkInfo, RobotModel};
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+
+/// Link pairs excluded from self-collision checks (besides same-group and adjacent links).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DisabledPairs {
+    /// Random configurations sampled to compute the list.
+    #[serde(default)]
+    pub samples: usize,
+    /// Seed of the sampling.
+    #[serde(default)]
+    pub seed: u64,
+    /// The pairs.
+    #[serde(default)]
+    pub disabled: Vec<DisabledPair>,
+}
+
+/// One excluded link pair.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DisabledPair {
+    /// First link.
+    pub a: String,
+    /// Second link.
+    pub b: String,
+    /// `never` (never in collision in the samples) or `always`.
+    pub reason: String,
+}
+
+/// The body pairs (indices into `bodies`, all [`Owner::Link`]) the self-collision check tests:
+/// every pair of bodies on different links that are not in one rigid group, not joined by a
+/// joint and not in `disabled`.
+pub(super) fn self_pairs(
+    model: &RobotModel,
+    bodies: &[Body],
+    disabled: &DisabledPairs,
+) -> Result<Vec<(u16, u16)>> {
+    let links = model.links();
+    let mut off = HashSet::new();
+    for p in &disabled.disabled {
+        match (model.link_index(&p.a), model.link_index(&p.b)) {
+            (Some(a), Some(b)) => {
+                off.insert((a.min(b), a.max(b)));
+            }
+            _ => {
+                return Err(Error::invalid(
+                    "disabled collision pair",
+                    format!("{} / {}", p.a, p.b),
+                    format!("no such link in {}", model.source()),
+                ))
+            }
+        }
+    }
+    let link = |b: &Body| match b.owner {
+        Owner::Link(l) => l,
+        Owner::Obstacle(_) => unreachable!("self pairs are built from link bodies only"),
+    };
+    let mut pairs = Vec::new();
+    for (i, bi) in bodies.iter().enumerate() {
+        for (j, bj) in bodies.iter().enumerate().skip(i + 1) {
+            let (a, b) = (link(bi), link(bj));
+            if candidate(links, a, b) && !off.contains(&(a.min(b), a.max(b))) {
+                pairs.push((i as u16, j as u16));
+            }
+        }
+    }
+    Ok(pairs)
+}
+
+/// Whether links `a` and `b` may collide at all: different rigid groups, not joined by a joint.
+fn candidate(links: &[LinkInfo], a: usize, b: usize) -> bool {
+    if a == b || links[a].group == links[b].group {
+        return false;
+    }
+    !(links[a].parent == Some(b) || links[b].parent == Some(a))
+}
+
+impl DisabledPairs {
+    /// Parse a `<robot>.collision.toml`; `source` names it in errors.
+    pub fn from_toml(text: &str, source: &str) -> Result<DisabledPairs> {
+        toml::from_str(text).map_err(|e| Error::File {
+            path: source.into(),
+            reason: format!("malformed disabled-pairs file: {e}"),
+        })
+    }
+
+    /// The list for a model: the built-in one, or `<urdf stem>.collision.toml` beside the URDF
+    /// file if it exists, else empty.
+    pub fn for_model(model: &RobotModel) -> Result<DisabledPairs> {
+        if let Some(name) = model.source().strip_prefix("builtin:") {
+            if let Some(b) = crate::robot::urdf::builtin(name) {
+                return Self::from_toml(b.collision, &format!("builtin:{name}.collision.toml"));
+            }
+        }
+        let p = std::path::Path::new(model.source()).with_extension("collision.toml");
+        if p.exists() {
+            let text = std::fs::read_to_string(&p).map_err(|source| Error::Io {
+                path: p.clone(),
+                source,
+            })?;
+            return Self::from_toml(&text, &p.display().to_string());
+        }
+        Ok(DisabledPairs::default())
+    }
+
+    /// Sample `samples` random in-limit configurations (ChaCha8 stream from `seed`) and list
+    /// the candidate link pairs (not same group, not adjacent) that never — or always — collide.
+    pub fn compute(model: &RobotModel, samples: usize, seed: u64) -> Result<DisabledPairs> {
+        use rand::SeedableRng;
+        let cm = CollisionModel::new(model, &DisabledPairs::default(), &[])?;
+        let mut ws = cm.workspace();
+        let pairs = cm.self_pair_links();
+        let mut link_pairs: Vec<(usize, usize)> =
+            pairs.iter().map(|&(a, b)| (a.min(b), a.max(b))).collect();
+        link_pairs.sort_unstable();
+        link_pairs.dedup();
+        let mut count = vec![0usize; link_pairs.len()];
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let n = model.dof();
+        let mut hit = vec![false; link_pairs.len()];
+        for _ in 0..samples {
+            let q = model.random_config(&mut rng);
+            cm.update(&q[..n], &mut ws);
+            hit.iter_mut().for_each(|h| *h = false);
+            for &(i, j) in &cm.self_pairs {
+                let (i, j) = (i as usize, j as usize);
+                let (la, lb) = cm.body_links(i, j);
+                let k = link_pairs
+                    .binary_search(&(la.min(lb), la.max(lb)))
+                    .expect("pair listed");
+                if !hit[k]
+                    && intersects(
+                        &Part::Body(&cm.bodies[i], &ws.posed[i]),
+                        &Part::Body(&cm.bodies[j], &ws.posed[j]),
+                    )
+                {
+                    hit[k] = true;
+                }
+            }
+            for (c, h) in count.iter_mut().zip(&hit) {
+                *c += usize::from(*h);
+            }
+        }
+        let names = model.links();
+        let disabled = link_pairs
+            .iter()
+            .zip(&count)
+            .filter(|(_, &c)| c == 0 || c == samples)
+            .map(|(&(a, b), &c)| DisabledPair {
+                a: names[a].name.clone(),
+                b: names[b].name.clone(),
+                reason: if c == 0 { "never" } else { "always" }.into(),
+            })
+            .collect();
+        Ok(DisabledPairs {
+            samples,
+            seed,
+            disabled,
+        })
+    }
+
+    /// The TOML text (with a header saying how to regenerate it).
+    pub fn to_toml(&self, robot: &str) -> String {
+        let mut s = format!(
+            "# Link pairs of {robot} never checked for self-collision (like an SRDF's disabled\n\
+             # collisions), besides links joined by a joint or rigidly attached to each other.\n\
+             # \"never\": not in collision in any of the random in-limit samples; \"always\": in all.\n\
+             # Regenerate: helixreach robot --robot {robot} --write-disabled FILE [--samples N]\n"
+        );
+        s.push_str(&toml::to_string(self).unwrap_or_default());
+        s
+    }
+}

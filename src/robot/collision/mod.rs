@@ -1,0 +1,295 @@
+//! Collision checking with parry: the robot's primitive link shapes posed by FK, scene
+//! obstacles, and the rod as a chain of thin capsules.
+//!
+//! ## Map
+//! | module | holds |
+//! |---|---|
+//! | [`scene`] | the rig file's obstacle schema ([`SceneObstacle`]), validation, placement as a [`Shape`] |
+//! | `narrow` | bodies, their owners (link or obstacle) and the exact pair test and distance |
+//! | `walk` | the one walk over the checked pairs, shared by the boolean checks and the clearances |
+//! | [`disabled`] | which link pairs self-collision skips ([`DisabledPairs`]) |
+//!
+//! # Pairs
+//! Self-collision is checked between link bodies of different rigid groups (links joined by
+//! fixed or frozen joints never move relative to each other), except link pairs joined by a
+//! joint (adjacent) and the pairs of a [`DisabledPairs`] list (`helixreach robot --robot R
+//! --write-disabled FILE` regenerates it). Every robot body is checked against every scene
+//! obstacle, and (outside the ignored ends) every rod segment against every robot body and,
+//! optionally, the obstacles.
+//!
+//! # Speed
+//! Each body has a bounding ball; a pair is tested exactly only if the balls overlap. Spheres
+//! and capsules (the arms' shapes) are swept spheres: their exact test is a segment–segment
+//! distance (closed form, [`segment_distance_squared`]). Boxes and cylinders go to parry's
+//! `query::intersection_test` / `query::closest_points`. A [`CollisionWorkspace`] holds the link
+//! frames and posed bodies, sized once: no allocation per check.
+
+pub mod disabled;
+mod narrow;
+pub mod scene;
+mod walk;
+
+pub use disabled::{DisabledPair, DisabledPairs};
+pub use narrow::segment_distance_squared;
+pub use scene::{ObstaclePose, ObstacleShape, SceneObstacle};
+
+use super::kinematics::{Chain, Frame};
+use super::model::RobotModel;
+use crate::error::Result;
+use crate::math::{Real, Vec3};
+use narrow::{Body, Owner, Posed};
+use parry3d_f64::query;
+use std::ops::ControlFlow;
+use walk::{FirstHit, Nearest, Visit};
+
+/// The rod as thin capsules between consecutive nodes (robot root frame, clamp end first).
+#[derive(Clone, Copy, Debug)]
+pub struct RodGeometry<'a> {
+    /// Centerline nodes, from the clamp to the tool.
+    pub nodes: &'a [Vec3],
+    /// Rod radius (m).
+    pub radius: Real,
+    /// Segments within this arc length (m) of the tool end are not checked (they touch the
+    /// collet/gripper).
+    pub ignore_near_tool: Real,
+    /// Segments within this arc length (m) of the clamp are not checked (they touch the clamp).
+    pub ignore_near_clamp: Real,
+    /// Also check the rod against the scene obstacles.
+    pub against_scene: bool,
+}
+
+/// One party of a collision.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyRef {
+    /// A link (index into [`RobotModel::links`]).
+    Link(usize),
+    /// A scene obstacle (index into the obstacles).
+    Obstacle(usize),
+    /// A rod segment (between nodes `i` and `i + 1`).
+    Rod(usize),
+}
+
+/// Which pair collided (or is closest).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// First body.
+    pub a: BodyRef,
+    /// Second body.
+    pub b: BodyRef,
+    /// Distance (m; 0 when touching or overlapping). Set by [`CollisionModel::clearance`]; 0
+    /// for a boolean collision.
+    pub distance: Real,
+}
+
+/// Scratch for the checks, sized once per model ([`CollisionModel::workspace`]).
+#[derive(Clone, Debug)]
+pub struct CollisionWorkspace {
+    frames: Vec<Frame>,
+    posed: Vec<Posed>,
+}
+
+/// The collision model of a robot plus its scene (see the module docs). Immutable, `Send + Sync`.
+#[derive(Clone, Debug)]
+pub struct CollisionModel {
+    chain: Chain,
+    link_names: Vec<String>,
+    /// The robot's bodies (every one [`Owner::Link`]).
+    bodies: Vec<Body>,
+    /// The scene's bodies (every one [`Owner::Obstacle`]) and their fixed poses.
+    obstacles: Vec<Body>,
+    obstacle_posed: Vec<Posed>,
+    obstacle_names: Vec<String>,
+    /// Body pairs checked for self-collision (indices into `bodies`).
+    self_pairs: Vec<(u16, u16)>,
+}
+
+impl CollisionModel {
+    /// Build from a model, its disabled pairs and a scene.
+    pub fn new(
+        model: &RobotModel,
+        disabled: &DisabledPairs,
+        obstacles: &[SceneObstacle],
+    ) -> Result<CollisionModel> {
+        let links = model.links();
+        let bodies: Vec<Body> = links
+            .iter()
+            .enumerate()
+            .flat_map(|(li, l)| {
+                l.collision
+                    .iter()
+                    .map(move |c| Body::new(Owner::Link(li), &c.shape, &c.origin))
+            })
+            .collect();
+        let self_pairs = disabled::self_pairs(model, &bodies, disabled)?;
+        let mut cm = CollisionModel {
+            chain: model.chain().clone(),
+            link_names: links.iter().map(|l| l.name.clone()).collect(),
+            bodies,
+            obstacles: Vec::new(),
+            obstacle_posed: Vec::new(),
+            obstacle_names: Vec::new(),
+            self_pairs,
+        };
+        cm.set_obstacles(obstacles)?;
+        Ok(cm)
+    }
+
+    /// The model with the never-colliding list of a built-in robot, or of the file beside the
+    /// URDF (`<name>.collision.toml`, if present), and no obstacles.
+    pub fn for_model(model: &RobotModel) -> Result<CollisionModel> {
+        let disabled = DisabledPairs::for_model(model)?;
+        Self::new(model, &disabled, &[])
+    }
+
+    /// Replace the scene obstacles.
+    pub fn set_obstacles(&mut self, obstacles: &[SceneObstacle]) -> Result<()> {
+        self.obstacles.clear();
+        self.obstacle_posed.clear();
+        self.obstacle_names.clear();
+        for (k, o) in obstacles.iter().enumerate() {
+            o.validate()?;
+            let (shape, pose) = o.placed();
+            let body = Body::new(Owner::Obstacle(k), &shape, &pose);
+            let mut posed = Posed::default();
+            body.pose(&Frame::identity(), &mut posed);
+            self.obstacles.push(body);
+            self.obstacle_posed.push(posed);
+            self.obstacle_names.push(o.name.clone());
+        }
+        Ok(())
+    }
+
+    /// A workspace sized for this model.
+    pub fn workspace(&self) -> CollisionWorkspace {
+        CollisionWorkspace {
+            frames: vec![Frame::identity(); self.chain.n_links()],
+            posed: vec![Posed::default(); self.bodies.len()],
+        }
+    }
+
+    /// Number of body pairs checked for self-collision.
+    pub fn n_self_pairs(&self) -> usize {
+        self.self_pairs.len()
+    }
+
+    /// The links of robot bodies `i` and `j`.
+    fn body_links(&self, i: usize, j: usize) -> (usize, usize) {
+        let link = |b: &Body| match b.owner {
+            Owner::Link(l) => l,
+            Owner::Obstacle(_) => unreachable!("robot bodies are link bodies"),
+        };
+        (link(&self.bodies[i]), link(&self.bodies[j]))
+    }
+
+    /// The body pairs checked for self-collision, as link indices.
+    pub fn self_pair_links(&self) -> Vec<(usize, usize)> {
+        self.self_pairs
+            .iter()
+            .map(|&(i, j)| self.body_links(i as usize, j as usize))
+            .collect()
+    }
+
+    /// A readable name of a body.
+    pub fn name(&self, r: BodyRef) -> String {
+        match r {
+            BodyRef::Link(i) => self.link_names[i].clone(),
+            BodyRef::Obstacle(i) => format!("obstacle {}", self.obstacle_names[i]),
+            BodyRef::Rod(i) => format!("rod segment {i}"),
+        }
+    }
+
+    /// Pose every body at `q` (`q.len()` = the chain's dof).
+    pub fn update(&self, q: &[Real], ws: &mut CollisionWorkspace) {
+        self.chain.link_frames(q, &mut ws.frames);
+        for (b, p) in self.bodies.iter().zip(ws.posed.iter_mut()) {
+            if let Owner::Link(l) = b.owner {
+                b.pose(&ws.frames[l], p);
+            }
+        }
+    }
+
+    /// The posed frames of every link after [`CollisionModel::update`].
+    pub fn link_frames<'w>(&self, ws: &'w CollisionWorkspace) -> &'w [Frame] {
+        &ws.frames
+    }
+
+    /// Run a visitor over one walk and return what it kept.
+    fn run<V: Visit + Default>(walk: impl FnOnce(&mut V) -> ControlFlow<()>) -> V {
+        let mut v = V::default();
+        let _ = walk(&mut v);
+        v
+    }
+
+    /// First self-collision at the posed configuration, if any.
+    pub fn self_collision(&self, ws: &CollisionWorkspace) -> Option<Contact> {
+        Self::run(|v: &mut FirstHit| self.walk_self(ws, v)).0
+    }
+
+    /// First robot–obstacle collision at the posed configuration, if any.
+    pub fn scene_collision(&self, ws: &CollisionWorkspace) -> Option<Contact> {
+        Self::run(|v: &mut FirstHit| self.walk_scene(ws, v)).0
+    }
+
+    /// First rod collision (against robot bodies, and obstacles if asked), if any.
+    pub fn rod_collision(&self, ws: &CollisionWorkspace, rod: &RodGeometry<'_>) -> Option<Contact> {
+        Self::run(|v: &mut FirstHit| self.walk_rod(ws, rod, v)).0
+    }
+
+    /// Pose at `q` and report the first collision (self, scene, rod), if any.
+    pub fn check(
+        &self,
+        q: &[Real],
+        ws: &mut CollisionWorkspace,
+        rod: Option<&RodGeometry<'_>>,
+    ) -> Option<Contact> {
+        self.update(q, ws);
+        Self::run(|v: &mut FirstHit| self.walk_all(ws, rod, v)).0
+    }
+
+    /// Pose at `q`; the smallest distance over every checked pair (self, scene, rod) and that
+    /// pair (the first such pair in walk order). `None` if nothing is checked.
+    pub fn clearance(
+        &self,
+        q: &[Real],
+        ws: &mut CollisionWorkspace,
+        rod: Option<&RodGeometry<'_>>,
+    ) -> Option<Contact> {
+        self.update(q, ws);
+        Self::run(|v: &mut Nearest| self.walk_all(ws, rod, v)).0
+    }
+
+    /// Smallest self-collision distance at the posed configuration and its pair.
+    pub fn self_clearance(&self, ws: &CollisionWorkspace) -> Option<Contact> {
+        Self::run(|v: &mut Nearest| self.walk_self(ws, v)).0
+    }
+
+    /// Smallest robot–obstacle distance at the posed configuration and its pair.
+    pub fn scene_clearance(&self, ws: &CollisionWorkspace) -> Option<Contact> {
+        Self::run(|v: &mut Nearest| self.walk_scene(ws, v)).0
+    }
+
+    /// Smallest rod distance (to the robot, and the obstacles if asked) and its pair.
+    pub fn rod_clearance(&self, ws: &CollisionWorkspace, rod: &RodGeometry<'_>) -> Option<Contact> {
+        Self::run(|v: &mut Nearest| self.walk_rod(ws, rod, v)).0
+    }
+
+    /// Reference check by parry alone: every self pair through `query::intersection_test` on
+    /// parry shapes posed from the link frames (no bounding balls, no swept-sphere shortcut).
+    /// For tests.
+    pub fn self_collision_parry(&self, ws: &CollisionWorkspace) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        for &(i, j) in &self.self_pairs {
+            let (i, j) = (i as usize, j as usize);
+            let (li, lj) = self.body_links(i, j);
+            let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+            let pi = ws.frames[li].mul(&bi.local).to_iso();
+            let pj = ws.frames[lj].mul(&bj.local).to_iso();
+            if query::intersection_test(&pi, bi.parry.as_ref(), &pj, bj.parry.as_ref())
+                .unwrap_or(true)
+            {
+                out.push((li, lj));
+            }
+        }
+        out
+    }
+}
