@@ -6,7 +6,7 @@ use crate::boundary::continuum;
 use crate::boundary::der::{self, DerBoundaryParams};
 use crate::directions::{fibonacci, Direction};
 use crate::error::Result;
-use crate::records::{BoundaryRow, SpeedErrorRow};
+use crate::records::{self, BoundaryRow, SpeedErrorRow};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -80,31 +80,12 @@ fn solve(dirs: &[Direction], tol: f64) -> Vec<(f64, f64, f64)> {
         .collect()
 }
 
-/// The boundary CSV of `rows` with their error estimates.
+/// The boundary CSV of `rows` with their error estimates (the record layer's columns and row).
 fn boundary_csv(rows: &[BoundaryRow], est: &[f64]) -> String {
-    let mut s = String::from(
-        "dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error\n",
-    );
+    let mut s = records::BOUNDARY_HEADER.join(",") + "\n";
     for (r, e) in rows.iter().zip(est) {
-        let p = if r.s_star.is_finite() {
-            r.dir.at(r.s_star)
-        } else {
-            [f64::INFINITY; 3]
-        };
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{},{}",
-            r.dir.kappa,
-            r.dir.tau,
-            r.dir.omega,
-            r.s_star,
-            p[0],
-            p[1],
-            p[2],
-            r.method,
-            r.resolution,
-            e
-        );
+        let row = records::boundary_row(&r.dir, r.s_star, &r.method, &r.resolution, *e);
+        let _ = writeln!(s, "{}", row.join(","));
     }
     s
 }

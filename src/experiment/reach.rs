@@ -6,7 +6,7 @@ use crate::directions::{fibonacci, Direction};
 use crate::error::Result;
 use crate::planning::planner::Planner;
 use crate::planning::rig::{Rig, RollMode};
-use crate::records::{self, Cause, ReachClass, ReachRow};
+use crate::records::{self, ReachClass, ReachRow};
 use crate::sweep::driver::SweepOptions;
 use crate::sweep::reach::{self as sweep_reach, ReachOptions, REACH_HEADER};
 use serde::Serialize;
@@ -57,8 +57,8 @@ pub struct ReachSurvey {
 fn summary(rows: &[ReachRow], azimuths: &[f64], wall: f64) -> RollSummary {
     let count = |c: ReachClass| rows.iter().filter(|r| r.class == c).count();
     let mut causes: BTreeMap<String, usize> = BTreeMap::new();
-    for r in rows.iter().filter(|r| r.cause != Cause::None) {
-        *causes.entry(r.cause.as_str().to_string()).or_default() += 1;
+    for cause in rows.iter().filter_map(|r| r.cause) {
+        *causes.entry(cause.as_str().to_string()).or_default() += 1;
     }
     let n = rows.len() as f64;
     let (t, p, b) = (

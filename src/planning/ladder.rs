@@ -40,8 +40,12 @@
 
 use crate::math::Real;
 
-/// Why a ray could not be driven further (or a node / an edge was rejected).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+/// Why a ray could not be driven further (or a node / an edge was rejected). The one
+/// blocking-cause type: records read and write it by serde (the [`BlockCause::as_str`] names).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "snake_case")]
 pub enum BlockCause {
     /// No IK solution for the pose.
     NoIk,

@@ -80,8 +80,10 @@ const MAX_RECONFIGURATIONS: usize = 64;
 /// Most samples of one self-motion walk (one direction from one node).
 const MAX_WALK_SAMPLES: usize = 2_000;
 
-/// Reachability class of a ray.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// Reachability class of a ray. The one class type: records read and write it by serde (the
+/// [`ReachClass::as_str`] names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ReachClass {
     /// The whole path to s*·(1 + margin) is feasible.
     Testable,

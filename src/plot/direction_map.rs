@@ -15,7 +15,7 @@
 //! the colour of the cause that stopped them (Okabe–Ito palette). Marked directions (the
 //! experiment's) are black crosses. The legend gives each category's share per roll mode.
 
-use super::records::{Cause, ReachClass, ReachRow};
+use super::records::{BlockCause, ReachClass, ReachRow};
 use super::style::{self, FAMILY};
 use super::{DrawResult, Figure};
 use crate::directions::Direction;
@@ -104,8 +104,8 @@ enum Marker {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Category {
     Testable,
-    Partial(Cause),
-    Blocked(Cause),
+    Partial(Option<BlockCause>),
+    Blocked(Option<BlockCause>),
 }
 
 impl Category {
@@ -118,15 +118,27 @@ impl Category {
     }
 }
 
-fn cause_color(c: Cause) -> RGBColor {
+fn cause_color(c: Option<BlockCause>) -> RGBColor {
     match c {
-        Cause::None => style::GREY,
-        Cause::NoIk => style::ORANGE,
-        Cause::JointLimit => style::VERMILLION,
-        Cause::SelfCollision => style::PURPLE,
-        Cause::SceneCollision => style::BLUE,
-        Cause::RodCollision => style::YELLOW,
-        Cause::Discontinuity => style::BLACK,
+        None => style::GREY,
+        Some(BlockCause::NoIk) => style::ORANGE,
+        Some(BlockCause::JointLimit) => style::VERMILLION,
+        Some(BlockCause::SelfCollision) => style::PURPLE,
+        Some(BlockCause::SceneCollision) => style::BLUE,
+        Some(BlockCause::RodCollision) => style::YELLOW,
+        Some(BlockCause::Discontinuity) => style::BLACK,
+    }
+}
+
+/// Legend words for a cause.
+fn cause_label(c: BlockCause) -> &'static str {
+    match c {
+        BlockCause::NoIk => "no IK solution",
+        BlockCause::JointLimit => "joint limit",
+        BlockCause::SelfCollision => "self-collision",
+        BlockCause::SceneCollision => "scene collision",
+        BlockCause::RodCollision => "rod collision",
+        BlockCause::Discontinuity => "discontinuity",
     }
 }
 
@@ -364,12 +376,12 @@ impl Figure for DirectionMap {
                 true,
             ),
         ];
-        for cause in Cause::ALL.iter().copied().filter(|c| *c != Cause::None) {
+        for cause in BlockCause::ALL {
             entries.push((
-                cause.label().into(),
-                Marker::Dot(cause_color(cause)),
+                cause_label(cause).into(),
+                Marker::Dot(cause_color(Some(cause))),
                 Box::new(
-                    move |c| matches!(c, Category::Partial(x) | Category::Blocked(x) if x == cause),
+                    move |c| matches!(c, Category::Partial(x) | Category::Blocked(x) if x == Some(cause)),
                 ),
                 false,
             ));

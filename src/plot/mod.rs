@@ -55,7 +55,7 @@ pub mod trajectory;
 
 pub use records::{
     read_boundary, read_joint_limits, read_reach, read_series, read_speed_error, read_trajectory,
-    BoundaryRow, Cause, JointLimit, ReachClass, ReachRow, Series, SeriesRow, SpeedErrorRow,
+    BlockCause, BoundaryRow, JointLimit, ReachClass, ReachRow, Series, SeriesRow, SpeedErrorRow,
     TrajectoryRow,
 };
 

@@ -19,7 +19,6 @@ use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::Real;
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 
 /// One direction of a boundary CSV: where the ray S̄ leaves the stable set.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,106 +33,102 @@ pub struct BoundaryRow {
     pub resolution: String,
 }
 
-/// Classification of a direction by the reachability sweep.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ReachClass {
-    /// The robot drives the rod past the boundary.
-    Testable,
-    /// The robot reaches some s > 0 but not the boundary.
-    Partial,
-    /// The robot cannot start the ray.
-    Blocked,
+/// Format a real for CSV: the shortest text that reads back to the same `f64` (`inf`, `-inf`,
+/// `NaN` for the non-finite values). Every CSV writer uses it.
+///
+/// ```
+/// use helixreach::records::fmt_real;
+/// assert_eq!(fmt_real(0.1), "0.1");
+/// assert_eq!(fmt_real(f64::INFINITY), "inf");
+/// let x = 1.0 / 3.0;
+/// assert_eq!(fmt_real(x).parse::<f64>().unwrap(), x);
+/// ```
+pub fn fmt_real(x: Real) -> String {
+    format!("{x}")
 }
 
-impl FromStr for ReachClass {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "testable" => Ok(Self::Testable),
-            "partial" => Ok(Self::Partial),
-            "blocked" => Ok(Self::Blocked),
-            _ => Err(format!(
-                "`{s}` is not a class (expected testable, partial or blocked)"
-            )),
-        }
-    }
+/// Columns of a boundary CSV (`helixreach boundary`, the demo's `boundary.csv`).
+pub const BOUNDARY_HEADER: [&str; 10] = [
+    "dir_kappa",
+    "dir_tau",
+    "dir_omega",
+    "s_star",
+    "kappa",
+    "tau",
+    "omega",
+    "method",
+    "resolution",
+    "est_error",
+];
+
+/// Columns of a reachability CSV (`helixreach reach`, the demo's `reach_*.csv`).
+pub const REACH_HEADER: [&str; 13] = [
+    "dir_kappa",
+    "dir_tau",
+    "dir_omega",
+    "s_star",
+    "s_reached",
+    "class",
+    "cause",
+    "azimuth",
+    "roll_mode",
+    "n_waypoints",
+    "path_cost",
+    "max_joint_step",
+    "reconfigurations",
+];
+
+/// The key columns of a direction (`dir_kappa,dir_tau,dir_omega`).
+pub fn dir_key(d: &Direction) -> Vec<String> {
+    vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)]
 }
 
-/// Why a ray stops (the planner's blocking cause).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Cause {
-    /// Not blocked.
-    None,
-    /// No inverse-kinematics solution.
-    NoIk,
-    /// Every solution violates a joint limit.
-    JointLimit,
-    /// The arm collides with itself.
-    SelfCollision,
-    /// The arm collides with the scene.
-    SceneCollision,
-    /// The arm collides with the rod.
-    RodCollision,
-    /// Solutions exist but no joint path joins consecutive waypoints.
-    Discontinuity,
+/// One boundary row (columns [`BOUNDARY_HEADER`]): the boundary point is `s*·S̄` with
+/// `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
+///
+/// ```
+/// use helixreach::{directions::Direction, records::boundary_row};
+/// let d = Direction::new(1.0, 0.0, 0.0).unwrap();
+/// let r = boundary_row(&d, f64::INFINITY, "continuum", "1e-10", 0.0);
+/// assert_eq!(r[3..7], ["inf", "inf", "0", "0"]);
+/// ```
+pub fn boundary_row(
+    d: &Direction,
+    s_star: Real,
+    method: &str,
+    resolution: &str,
+    est_error: Real,
+) -> Vec<String> {
+    let scaled = |c: Real| if c == 0.0 { 0.0 } else { s_star * c };
+    let mut v = dir_key(d);
+    v.extend([
+        fmt_real(s_star),
+        fmt_real(scaled(d.kappa)),
+        fmt_real(scaled(d.tau)),
+        fmt_real(scaled(d.omega)),
+        method.to_string(),
+        resolution.to_string(),
+        format!("{est_error:e}"),
+    ]);
+    v
 }
 
-impl Cause {
-    /// Every cause, in legend order.
-    pub const ALL: [Cause; 7] = [
-        Cause::None,
-        Cause::NoIk,
-        Cause::JointLimit,
-        Cause::SelfCollision,
-        Cause::SceneCollision,
-        Cause::RodCollision,
-        Cause::Discontinuity,
-    ];
+pub use crate::planning::ladder::BlockCause;
+pub use crate::planning::planner::ReachClass;
 
-    /// The CSV spelling.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Cause::None => "none",
-            Cause::NoIk => "no_ik",
-            Cause::JointLimit => "joint_limit",
-            Cause::SelfCollision => "self_collision",
-            Cause::SceneCollision => "scene_collision",
-            Cause::RodCollision => "rod_collision",
-            Cause::Discontinuity => "discontinuity",
-        }
-    }
-
-    /// Words for a legend.
-    pub fn label(self) -> &'static str {
-        match self {
-            Cause::None => "none",
-            Cause::NoIk => "no IK solution",
-            Cause::JointLimit => "joint limit",
-            Cause::SelfCollision => "self-collision",
-            Cause::SceneCollision => "scene collision",
-            Cause::RodCollision => "rod collision",
-            Cause::Discontinuity => "discontinuity",
-        }
-    }
+/// Parse a record enum ([`ReachClass`], [`BlockCause`]) from its CSV spelling, by serde.
+fn parse_name<T: serde::de::DeserializeOwned>(s: &str) -> std::result::Result<T, String> {
+    use serde::de::IntoDeserializer;
+    T::deserialize(s.into_deserializer())
+        .map_err(|e: serde::de::value::Error| format!("`{s}`: {e}"))
 }
 
-impl FromStr for Cause {
-    type Err = String;
-    /// The CSV spelling; an empty field means no cause (`reach` writes none for testable rays).
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        if s.is_empty() {
-            return Ok(Cause::None);
-        }
-        Cause::ALL
-            .iter()
-            .copied()
-            .find(|c| c.as_str() == s)
-            .ok_or_else(|| {
-                format!(
-                    "`{s}` is not a cause (expected one of none, no_ik, joint_limit, \
-                     self_collision, scene_collision, rod_collision, discontinuity)"
-                )
-            })
+/// A blocking cause from its CSV spelling; an empty field or `none` means not blocked (`reach`
+/// writes none for testable rays).
+fn parse_cause(s: &str) -> std::result::Result<Option<BlockCause>, String> {
+    match s {
+        "" | "none" => Ok(None),
+        _ => parse_name(s).map(Some),
     }
 }
 
@@ -149,7 +144,7 @@ pub struct ReachRow {
     /// Classification.
     pub class: ReachClass,
     /// Blocking cause (`None` for testable rays).
-    pub cause: Cause,
+    pub cause: Option<BlockCause>,
     /// Roll mode (`fixed`, `motor`, …); empty when the column is absent.
     pub roll_mode: String,
 }
@@ -383,8 +378,8 @@ pub fn read_reach(path: &Path) -> Result<Vec<ReachRow>> {
                 dir: t.direction(r, dc)?,
                 s_star: t.real(r, is, "s_star", true)?,
                 s_reached,
-                class: t.text(r, icl).parse().map_err(|e| t.bad(r, "class", e))?,
-                cause: t.text(r, ica).parse().map_err(|e| t.bad(r, "cause", e))?,
+                class: parse_name(t.text(r, icl)).map_err(|e| t.bad(r, "class", e))?,
+                cause: parse_cause(t.text(r, ica)).map_err(|e| t.bad(r, "cause", e))?,
                 roll_mode: im.map(|c| t.text(r, c).to_string()).unwrap_or_default(),
             })
         })

@@ -22,22 +22,7 @@ use crate::sweep::record::fnv1a_hex;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Columns of the `reach` CSV.
-pub const REACH_HEADER: [&str; 13] = [
-    "dir_kappa",
-    "dir_tau",
-    "dir_omega",
-    "s_star",
-    "s_reached",
-    "class",
-    "cause",
-    "azimuth",
-    "roll_mode",
-    "n_waypoints",
-    "path_cost",
-    "max_joint_step",
-    "reconfigurations",
-];
+pub use crate::records::REACH_HEADER;
 
 /// s* per direction read from a boundary CSV (`dir_kappa,dir_tau,dir_omega,s_star`, `inf`
 /// allowed). Directions are matched after normalization, to 1e-9.
@@ -129,10 +114,7 @@ pub fn s_star_of(dir: &Direction, table: Option<&BoundaryTable>) -> Result<Real>
     }
 }
 
-/// Format a real for CSV (shortest round-trip; `inf`).
-pub fn fmt_real(x: Real) -> String {
-    format!("{x}")
-}
+pub use crate::records::fmt_real;
 
 /// The CSV row of a plan (columns [`REACH_HEADER`]).
 pub fn reach_row(p: &RayPlan) -> Row {

@@ -25,19 +25,7 @@ use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// The boundary columns, in order.
-pub const HEADER: [&str; 10] = [
-    "dir_kappa",
-    "dir_tau",
-    "dir_omega",
-    "s_star",
-    "kappa",
-    "tau",
-    "omega",
-    "method",
-    "resolution",
-    "est_error",
-];
+pub use helixreach::records::BOUNDARY_HEADER as HEADER;
 
 /// Which stability test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -98,44 +86,11 @@ pub struct Args {
     pub speed_report: Option<PathBuf>,
 }
 
-/// Format a float for CSV: shortest round-trip text, `inf`/`-inf` for infinities.
-pub fn fmt_real(x: Real) -> String {
-    if x == Real::INFINITY {
-        "inf".into()
-    } else if x == Real::NEG_INFINITY {
-        "-inf".into()
-    } else {
-        format!("{x}")
-    }
-}
-
-/// `s·d` with `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
-fn scaled(s: Real, d: Real) -> Real {
-    if d == 0.0 {
-        0.0
-    } else {
-        s * d
-    }
-}
-
-/// The key columns of a direction.
-pub fn dir_key(d: &Direction) -> Vec<String> {
-    vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)]
-}
+pub use helixreach::records::{dir_key, fmt_real};
 
 /// One boundary row.
 fn row(d: &Direction, r: CriticalS, method: &str, resolution: &str) -> Vec<String> {
-    let mut v = dir_key(d);
-    v.extend([
-        fmt_real(r.s_star),
-        fmt_real(scaled(r.s_star, d.kappa)),
-        fmt_real(scaled(r.s_star, d.tau)),
-        fmt_real(scaled(r.s_star, d.omega)),
-        method.to_string(),
-        resolution.to_string(),
-        format!("{:e}", r.est_error),
-    ]);
-    v
+    helixreach::records::boundary_row(d, r.s_star, method, resolution, r.est_error)
 }
 
 /// The direction set the arguments select.
