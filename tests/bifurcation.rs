@@ -199,3 +199,89 @@ fn the_command_writes_a_row_for_an_undecidable_direction() {
     assert!(rows[0][9].contains("no DER s*"), "{text}");
     assert_eq!(rows[1][4], "supercritical", "{text}");
 }
+
+/// Issue 12, planning consequence: a rig's `margin_supercritical` (TOML `[planner]`, default
+/// `margin`) drives a supercritical ray further past s* than a subcritical one, and the plan
+/// and the reach row say which type was assumed (the seed's labels: (0.958, 0.287, 0)
+/// supercritical, (0.838, 0.545, 0) subcritical).
+#[test]
+fn a_supercritical_ray_is_planned_to_its_own_margin_and_says_so() {
+    use helixreach::planning::planner::Planner;
+    use helixreach::planning::rig::{Rig, RollMode};
+    let robots = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+    let text = std::fs::read_to_string(robots.join("sawyer-seed.toml")).unwrap();
+    let with = |line: &str| {
+        assert!(text.contains("margin = 0.10\n"));
+        Rig::from_toml_str(
+            &text.replacen("margin = 0.10\n", &format!("margin = 0.10\n{line}\n"), 1),
+            "t.toml",
+            &robots,
+        )
+    };
+    let e = with("margin_supercritical = 1.5").unwrap_err().to_string();
+    assert!(
+        e.contains("planner.margin_supercritical") && e.contains("1.5"),
+        "{e}"
+    );
+    assert!(with("margin_supercritical = nan").is_err());
+    let rig = with("margin_supercritical = 0.3").unwrap();
+    assert_eq!(rig.planner.margin_supercritical, Some(0.3));
+    let back = Rig::from_toml_str(&rig.to_toml().unwrap(), "back.toml", &robots).unwrap();
+    assert_eq!(back.planner.margin_supercritical, Some(0.3));
+    // Absent: the same margin for every type, and no type assumed.
+    assert_eq!(
+        Rig::load("sawyer-seed")
+            .unwrap()
+            .planner
+            .margin_supercritical,
+        None
+    );
+
+    let typed = Planner::new(rig).unwrap();
+    let plain = Planner::new(Rig::load("sawyer-seed").unwrap()).unwrap();
+    for (d, want, margin) in [
+        (
+            Direction::new(0.957826, 0.287348, 0.0).unwrap(),
+            BifurcationType::Supercritical,
+            0.3,
+        ),
+        (
+            Direction::new(0.838444, 0.544988, 0.0).unwrap(),
+            BifurcationType::Subcritical,
+            0.1,
+        ),
+    ] {
+        let kind = helixreach::bifurcation::planning_type(&d).unwrap();
+        assert_eq!(kind, want, "{d:?}");
+        let s_star = helixreach::boundary::continuum::critical_s(&d, 1e-8)
+            .unwrap()
+            .s_star;
+        let p = typed
+            .plan_best_typed(&d, s_star, Some(kind), &[0.0], RollMode::Fixed, false)
+            .unwrap();
+        assert_eq!(p.assumed_type, Some(want));
+        assert!(
+            (p.s_end / (s_star * (1.0 + margin)) - 1.0).abs() < 1e-12,
+            "{p:?}"
+        );
+        let row = helixreach::sweep::reach::reach_row(&p);
+        assert_eq!(row.last().unwrap(), want.name());
+        // Type not known: the larger margin, which covers any type.
+        let u = typed
+            .plan_best_typed(&d, s_star, None, &[0.0], RollMode::Fixed, false)
+            .unwrap();
+        assert!((u.s_end / (s_star * 1.3) - 1.0).abs() < 1e-12, "{u:?}");
+        let q = plain
+            .plan_best_typed(&d, s_star, Some(kind), &[0.0], RollMode::Fixed, false)
+            .unwrap();
+        assert_eq!(
+            q.assumed_type, None,
+            "the plain rig's margin does not depend on the type"
+        );
+        assert!((q.s_end / (s_star * 1.1) - 1.0).abs() < 1e-12, "{q:?}");
+        assert_eq!(
+            helixreach::sweep::reach::reach_row(&q).last().unwrap(),
+            "any"
+        );
+    }
+}

@@ -361,6 +361,12 @@ impl ConstrainedMin {
             }
             st.copy_from(trial);
         }
+        // Out of iterations with the residual at the round-off floor (slow, not stalled):
+        // as good as the stall exit above.
+        let scale = STRETCH_ROUNDOFF * rod.material.stretch * Real::EPSILON;
+        if last_res <= FLOOR_FACTOR * scale.max(CONSTRAINED_REL_RESIDUAL * rod.material.bend) {
+            return Ok(CONSTRAINED_ITERS);
+        }
         Err(not_converged(CONSTRAINED_ITERS, last_res, "iterations"))
     }
 }

@@ -99,8 +99,8 @@ fn move_end(
 }
 
 /// Follow the post-snap equilibrium of `ray` back down from past `s_star` (see the module
-/// docs). `mode` is the critical mode at s*, `c` the twist ratio, `tol_rel` the relative
-/// resolution of `s_return`.
+/// docs). `mode` is the critical mode at s*, `c` the twist ratio, `stretch` the stretching
+/// stiffness of the boundary's rod, `tol_rel` the relative resolution of `s_return`.
 pub fn static_return(
     ray: &mut DerRay,
     dir: &Direction,
@@ -108,6 +108,7 @@ pub fn static_return(
     mode: &CriticalMode,
     c: Real,
     placement: ClampPlacement,
+    stretch: Real,
     tol_rel: Real,
 ) -> Result<StaticReturn> {
     let s_a = s_star * (1.0 + OVERSHOOT);
@@ -120,7 +121,10 @@ pub fn static_return(
         Some(s) => s,
         None => ray.initial_state(s_a)?,
     };
-    let rod = ray.rod().clone();
+    // The ray's rod at the boundary's stretching stiffness (a failed cold start of
+    // `DerRay::evaluate` leaves it at a continuation value).
+    let mut rod = ray.rod().clone();
+    rod.material.stretch = stretch;
     let x = KICK / mode.max_node.max(1e-300);
     for (q, p) in st.q.iter_mut().zip(&mode.phi) {
         *q += x * p;

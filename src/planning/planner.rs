@@ -148,6 +148,10 @@ pub struct RayPlan {
     pub max_joint_step: Real,
     /// The path to `s_reached` (when asked for).
     pub path: Option<Vec<PlannedPoint>>,
+    /// The bifurcation type the margin past s* was chosen for
+    /// ([`PlannerSettings::margin_for`](crate::planning::rig::PlannerSettings::margin_for));
+    /// `None` when the margin is the same for every type (no type assumed).
+    pub assumed_type: Option<crate::bifurcation::BifurcationType>,
 }
 
 /// Overrides of a rig's settings, as `plan` and `reach` take them on the command line
@@ -223,6 +227,9 @@ pub struct Planner {
     weights: [Real; MAX_DOF],
     start_fixed: OnceLock<std::result::Result<StartSet, CauseCounts>>,
     start_motor: OnceLock<std::result::Result<StartSet, CauseCounts>>,
+    /// The same rig driven to `margin_supercritical` (made on first use by
+    /// [`Planner::plan_best_typed`]; the error text when it cannot be made).
+    other_margin: OnceLock<std::result::Result<Box<Planner>, String>>,
 }
 
 fn cause_of(c: &Contact) -> BlockCause {
@@ -298,6 +305,7 @@ impl Planner {
             weights,
             start_fixed: OnceLock::new(),
             start_motor: OnceLock::new(),
+            other_margin: OnceLock::new(),
         };
         // Unreachable clamp: no valid start in the rig's roll mode.
         if let Err(causes) = planner.start(planner.rig.roll) {
@@ -692,6 +700,7 @@ impl Planner {
             path_cost: 0.0,
             max_joint_step: 0.0,
             path: None,
+            assumed_type: None,
         };
         if let Err(c) = self.start(roll) {
             plan.cause = Some(c.dominant().unwrap_or(BlockCause::NoIk));
@@ -1107,6 +1116,50 @@ impl Planner {
             }
         }
         best.ok_or_else(|| Error::invalid("azimuths", "[]", "need at least one azimuth"))
+    }
+
+    /// [`Planner::plan_best`] driven past s* by the margin for the ray's bifurcation type
+    /// `kind` ([`PlannerSettings::margin_for`](crate::planning::rig::PlannerSettings::margin_for):
+    /// `margin` when subcritical, `margin_supercritical` when supercritical, the larger when
+    /// degenerate or unknown); the plan records the type in `assumed_type` (`None` when the
+    /// rig's margin does not depend on it). Issue 12.
+    pub fn plan_best_typed(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        kind: Option<crate::bifurcation::BifurcationType>,
+        azimuths: &[Real],
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
+        let settings = &self.rig.planner;
+        let margin = settings.margin_for(kind);
+        let mut plan = if margin == settings.margin {
+            self.plan_best(dir, s_star, azimuths, roll, want_path)?
+        } else {
+            let other = self.other_margin.get_or_init(|| {
+                let mut rig = self.rig.clone();
+                rig.planner.margin = margin;
+                rig.planner.margin_supercritical = None;
+                Planner::new(rig).map(Box::new).map_err(|e| e.to_string())
+            });
+            match other {
+                Ok(p) => p.plan_best(dir, s_star, azimuths, roll, want_path)?,
+                Err(e) => {
+                    return Err(Error::invalid(
+                        format!("{}: planner.margin_supercritical", self.rig.source),
+                        margin,
+                        e.clone(),
+                    ))
+                }
+            }
+        };
+        plan.assumed_type = if settings.type_dependent() {
+            kind
+        } else {
+            None
+        };
+        Ok(plan)
     }
 
     /// The time-parametrized trajectory of a plan with a path (see

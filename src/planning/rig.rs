@@ -150,6 +150,11 @@ pub struct MotorSpec {
 pub struct PlannerSettings {
     /// Fraction past the boundary s* to drive the rod (≥ 0; 0 = to the boundary).
     pub margin: Real,
+    /// Fraction past s* for a ray whose loss of stability is supercritical (a gradual
+    /// departure: amplitude ∝ √(s − s*), so it must be driven further before it is visible);
+    /// `None` = [`PlannerSettings::margin`] (TOML `margin_supercritical`, issue 12). See
+    /// [`PlannerSettings::margin_for`].
+    pub margin_supercritical: Option<Real>,
     /// Largest rod-end translation between consecutive waypoints (m).
     pub max_end_step: Real,
     /// Largest rod-end rotation between consecutive waypoints (rad).
@@ -188,6 +193,41 @@ pub struct PlannerSettings {
     pub hold_time: Real,
 }
 
+impl PlannerSettings {
+    /// The margin past s* for a ray of bifurcation type `kind` (issue 12): `margin` for a
+    /// subcritical ray (it snaps at s*), `margin_supercritical` (default `margin`) for a
+    /// supercritical one, and the larger of the two when the type is `degenerate` or not known
+    /// (`None`): a ray is then called testable only if the robot can drive it as far as either
+    /// type needs.
+    ///
+    /// ```
+    /// use helixreach::bifurcation::BifurcationType as T;
+    /// let mut p = helixreach::planning::rig::PlannerSettings::default();
+    /// assert!(!p.type_dependent());
+    /// p.margin_supercritical = Some(0.25);
+    /// assert!(p.type_dependent());
+    /// assert_eq!(p.margin_for(Some(T::Subcritical)), 0.10);
+    /// assert_eq!(p.margin_for(Some(T::Supercritical)), 0.25);
+    /// assert_eq!(p.margin_for(Some(T::Degenerate)), 0.25);
+    /// assert_eq!(p.margin_for(None), 0.25);
+    /// ```
+    pub fn margin_for(&self, kind: Option<crate::bifurcation::BifurcationType>) -> Real {
+        use crate::bifurcation::BifurcationType as T;
+        let sup = self.margin_supercritical.unwrap_or(self.margin);
+        match kind {
+            Some(T::Subcritical) => self.margin,
+            Some(T::Supercritical) => sup,
+            Some(T::Degenerate) | None => self.margin.max(sup),
+        }
+    }
+
+    /// True when the margin depends on the bifurcation type (`margin_supercritical` set and
+    /// different from `margin`): only then does a planner need the type of a ray.
+    pub fn type_dependent(&self) -> bool {
+        self.margin_supercritical.is_some_and(|m| m != self.margin)
+    }
+}
+
 impl Default for PlannerSettings {
     /// The defaults of issue 6 (5 mm / 2° waypoints, 0.05 rad joint steps, 10 % margin).
     ///
@@ -199,6 +239,7 @@ impl Default for PlannerSettings {
     fn default() -> Self {
         PlannerSettings {
             margin: 0.10,
+            margin_supercritical: None,
             max_end_step: 0.005,
             max_end_angle: 2.0 * DEG,
             waypoints: 0,
@@ -502,6 +543,7 @@ impl Default for RawAzimuth {
 #[serde(deny_unknown_fields)]
 struct RawPlanner {
     margin: Option<Real>,
+    margin_supercritical: Option<Real>,
     max_end_step: Option<Real>,
     max_end_angle_deg: Option<Real>,
     waypoints: Option<usize>,
@@ -746,6 +788,20 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             "must lie in [0, 1] (0: drive exactly to the predicted boundary, as the seed did)",
         ));
     }
+    let margin_supercritical = match p.margin_supercritical {
+        None => None,
+        Some(m) => {
+            let m = c.finite("planner.margin_supercritical", m)?;
+            if !(0.0..=1.0).contains(&m) {
+                return Err(c.err(
+                    "planner.margin_supercritical",
+                    m,
+                    "must lie in [0, 1] (the margin past s* of a supercritical ray)",
+                ));
+            }
+            Some(m)
+        }
+    };
     let max_joint_step = c.positive(
         "planner.max_joint_step",
         p.max_joint_step.unwrap_or(d.max_joint_step),
@@ -798,6 +854,7 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
     }
     let planner = PlannerSettings {
         margin,
+        margin_supercritical,
         max_end_step: c.positive(
             "planner.max_end_step",
             p.max_end_step.unwrap_or(d.max_end_step),

@@ -91,6 +91,8 @@ struct OutAzimuth<'a> {
 #[derive(Serialize)]
 struct OutPlanner<'a> {
     margin: Real,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    margin_supercritical: Option<Real>,
     max_end_step: Real,
     max_end_angle_deg: Real,
     waypoints: usize,
@@ -170,6 +172,7 @@ impl Rig {
             },
             planner: OutPlanner {
                 margin: pl.margin,
+                margin_supercritical: pl.margin_supercritical,
                 max_end_step: pl.max_end_step,
                 max_end_angle_deg: pl.max_end_angle / DEG,
                 waypoints: pl.waypoints,

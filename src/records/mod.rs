@@ -61,8 +61,10 @@ pub const BOUNDARY_HEADER: [&str; 10] = [
     "est_error",
 ];
 
-/// Columns of a reachability CSV (`helixreach reach`, the demo's `reach_*.csv`).
-pub const REACH_HEADER: [&str; 13] = [
+/// Columns of a reachability CSV (`helixreach reach`, the demo's `reach_*.csv`; the last,
+/// `bifurcation`, is the type the margin past s* was chosen for, see
+/// [`crate::sweep::reach`]).
+pub const REACH_HEADER: [&str; 14] = [
     "dir_kappa",
     "dir_tau",
     "dir_omega",
@@ -76,6 +78,7 @@ pub const REACH_HEADER: [&str; 13] = [
     "path_cost",
     "max_joint_step",
     "reconfigurations",
+    "bifurcation",
 ];
 
 /// The key columns of a direction (`dir_kappa,dir_tau,dir_omega`).

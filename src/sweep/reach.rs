@@ -5,7 +5,10 @@
 //! checkpointed, resumable, shardable, atomic output.
 //!
 //! Columns: [`REACH_HEADER`] (`reconfigurations`: self-motion reconfigurations at a held pose on
-//! the path, see [`crate::planning::planner`]). An unreachable direction is a `blocked` row with its cause, never an
+//! the path, see [`crate::planning::planner`]; `bifurcation`: the bifurcation type the margin
+//! past s* was chosen for, `any` when the rig's margin does not depend on it — otherwise the
+//! type of [`crate::bifurcation::planning_type`], see
+//! [`crate::planning::rig::PlannerSettings::margin_for`]). An unreachable direction is a `blocked` row with its cause, never an
 //! error; only a failure of the boundary computation or of the planner's input aborts the sweep.
 //!
 //! The boundary s* of each direction comes from the continuum conjugate-point test
@@ -132,6 +135,7 @@ pub fn reach_row(p: &RayPlan) -> Row {
         fmt_real(p.path_cost),
         fmt_real(p.max_joint_step),
         p.reconfigurations.to_string(),
+        p.assumed_type.map_or("any", |t| t.name()).to_string(),
     ]
 }
 
@@ -152,7 +156,12 @@ pub fn reach_one(
     opts: &ReachOptions,
 ) -> Result<Row> {
     let s_star = s_star_of(dir, table)?;
-    let plan = planner.plan_best(dir, s_star, &opts.azimuths, opts.roll, false)?;
+    let kind = if planner.rig().planner.type_dependent() {
+        Some(crate::bifurcation::planning_type(dir)?)
+    } else {
+        None
+    };
+    let plan = planner.plan_best_typed(dir, s_star, kind, &opts.azimuths, opts.roll, false)?;
     Ok(reach_row(&plan))
 }
 
@@ -179,6 +188,14 @@ pub fn settings(
         .setting("roll_mode", opts.roll.as_str())
         .setting("azimuths", azimuths.join(" "))
         .setting("margin", fmt_real(planner.rig().planner.margin))
+        .setting(
+            "margin_supercritical",
+            planner
+                .rig()
+                .planner
+                .margin_supercritical
+                .map_or("margin".to_string(), fmt_real),
+        )
         .setting(
             "boundary",
             match table {

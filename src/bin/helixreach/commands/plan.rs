@@ -109,17 +109,32 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => s_star_of(&dir, None)?,
     };
     let t0 = std::time::Instant::now();
-    let plan = planner.plan_best(&dir, s_star, &azimuths, roll, true)?;
+    // The bifurcation type decides the margin past s* only when the rig's margins differ.
+    let kind = if planner.rig().planner.type_dependent() {
+        Some(helixreach::bifurcation::planning_type(&dir)?)
+    } else {
+        None
+    };
+    let plan = planner.plan_best_typed(&dir, s_star, kind, &azimuths, roll, true)?;
     let dt = t0.elapsed().as_secs_f64();
     let traj = planner.trajectory(&plan)?;
+    let assumed = plan.assumed_type.map_or("any", |t| t.name());
     helixreach::io::write_atomic(&args.out, traj.to_csv().as_bytes())?;
     if let Some(j) = &args.json {
-        helixreach::io::write_atomic(j, traj.to_json().as_bytes())?;
+        // The ROS-shaped trajectory plus what the ray was planned for.
+        let mut doc: serde_json::Value = serde_json::from_str(&traj.to_json())?;
+        doc["ray"] = serde_json::json!({
+            "dir": [dir.kappa, dir.tau, dir.omega],
+            "s_star": plan.s_star,
+            "s_end": plan.s_end,
+            "bifurcation": assumed,
+        });
+        helixreach::io::write_atomic(j, serde_json::to_string_pretty(&doc)?.as_bytes())?;
     }
     eprintln!(
-        "{}: s* = {}, s_reached = {} of {} ({} of {} waypoints), cause {}, azimuth {}, roll {}, \
-         {} reconfigurations, cost {:.4}, max joint step {:.4} rad, duration {:.1} s \
-         (load, hold, unload); planned in {:.3} s",
+        "{}: s* = {}, s_reached = {} of {} (bifurcation assumed: {assumed}) ({} of {} waypoints), \
+         cause {}, azimuth {}, roll {}, {} reconfigurations, cost {:.4}, max joint step {:.4} rad, \
+         duration {:.1} s (load, hold, unload); planned in {:.3} s",
         plan.class.as_str(),
         plan.s_star,
         plan.s_reached,
