@@ -17,6 +17,12 @@ use crate::error::{Error, Result};
 /// This thread's CPU time in seconds since an arbitrary origin (errors if the OS has no
 /// per-thread CPU clock).
 pub fn thread_cpu_seconds() -> Result<f64> {
+    thread_cpu_nanos().map(|ns| ns as f64 * 1e-9)
+}
+
+/// This thread's CPU time in nanoseconds since an arbitrary origin: the one reading of the
+/// clock (the benches' criterion measurement uses it too).
+pub fn thread_cpu_nanos() -> Result<u64> {
     #[cfg(unix)]
     {
         let mut ts = libc::timespec {
@@ -26,7 +32,7 @@ pub fn thread_cpu_seconds() -> Result<f64> {
         // SAFETY: `ts` is a valid, writable timespec for the duration of the call.
         let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
         if rc == 0 {
-            return Ok(ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9);
+            return Ok(ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64);
         }
         Err(Error::invalid(
             "clock",

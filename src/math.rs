@@ -31,6 +31,21 @@ pub type Iso3 = nalgebra::Isometry3<Real>;
 /// A unit quaternion.
 pub type Quat = nalgebra::UnitQuaternion<Real>;
 
+/// Serde for a [`Vec3`] as the array `[x, y, z]` (rig files, records):
+/// `#[serde(with = "crate::math::vec3_array")]`.
+pub mod vec3_array {
+    use super::{Real, Vec3};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    /// Write `[x, y, z]`.
+    pub fn serialize<S: Serializer>(v: &Vec3, s: S) -> Result<S::Ok, S::Error> {
+        [v.x, v.y, v.z].serialize(s)
+    }
+    /// Read `[x, y, z]`.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
+        <[Real; 3]>::deserialize(d).map(Vec3::from)
+    }
+}
+
 /// One millimetre, in metres.
 pub const MM: Real = 1e-3;
 /// One degree, in radians.
@@ -51,9 +66,99 @@ pub mod tol {
     pub const TRAJ_POSITION: Real = 1e-6;
     /// Planned-trajectory pose check, orientation (rad).
     pub const TRAJ_ANGLE: Real = 1e-6;
+    /// Two unit vectors with `|a·b ∓ 1|` below this are parallel / antiparallel (dimensionless).
+    pub const PARALLEL: Real = 1e-15;
+    /// An input axis or direction shorter than this is zero and refused (its unit).
+    pub const ZERO_VECTOR: Real = 1e-9;
+    /// A user rotation matrix is accepted when `‖RᵀR − I‖` is below this (dimensionless).
+    pub const INPUT_ROTATION: Real = 1e-9;
+    /// A user quaternion is accepted when `|‖q‖ − 1|` is below this (then normalized).
+    pub const UNIT_QUATERNION: Real = 1e-6;
     /// Largest nondimensional distance s searched along a ray before it is declared
     /// stable everywhere (`s* = ∞`).
     pub const S_MAX: Real = 200.0;
+}
+
+/// The twist ratio `c = k_t/k_b = 1/(1+ν)` of a circular cross-section, for a Poisson ratio
+/// ν ∈ (−1, 0.5] (the range of isotropic elastic solids); errors otherwise, naming `nu`. The
+/// one place the ratio is computed (`helix::twist_ratio` and `rod::params::twist_ratio` are
+/// this function).
+///
+/// ```
+/// assert_eq!(helixreach::math::twist_ratio(0.0).unwrap(), 1.0);
+/// assert!((helixreach::math::twist_ratio(0.33).unwrap() - 1.0 / 1.33).abs() < 1e-16);
+/// assert!(helixreach::math::twist_ratio(0.6).is_err());
+/// assert!(helixreach::math::twist_ratio(f64::NAN).is_err());
+/// ```
+pub fn twist_ratio(nu: Real) -> crate::error::Result<Real> {
+    use crate::error::Error;
+    if !nu.is_finite() {
+        return Err(Error::invalid("nu", nu, "must be finite"));
+    }
+    if !(nu > -1.0 && nu <= 0.5) {
+        return Err(Error::invalid(
+            "nu",
+            nu,
+            "Poisson's ratio must lie in (-1, 0.5]",
+        ));
+    }
+    Ok(twist_ratio_unchecked(nu))
+}
+
+/// The formula of [`twist_ratio`] alone, for a ν its record already validated (a rig's rod).
+#[inline]
+pub fn twist_ratio_unchecked(nu: Real) -> Real {
+    1.0 / (1.0 + nu)
+}
+
+/// `P_{a→b}(d)`: the parallel transport of `d` from the unit vector `a` to the unit vector `b`,
+/// i.e. `d` rotated by the minimal rotation taking `a` to `b`. The one parallel transport of the
+/// crate (discrete helices, DER reference frames and reference twist).
+///
+/// - `a·b > −0.9`: Rodrigues about `k = a×b`, `P(d) = (a·b) d + k×d + (k·d)/(1 + a·b) k`, smooth
+///   through `a = b` (no division by `|a×b|`).
+/// - `a·b ≤ −0.9`: two reflections, through the plane ⊥ `a` and the plane ⊥ `h = a + b`
+///   (`S_h S_a` is the minimal rotation and has no `1/(1 + a·b)`).
+/// - exactly antiparallel (`h = 0`): no unique transport; the rotation by π about the component
+///   of `fallback_axis` perpendicular to `a` (or, if that vanishes, a fixed perpendicular).
+///
+/// ```
+/// use helixreach::math::{parallel_transport, Vec3};
+/// let (a, b) = (Vec3::z(), Vec3::x());
+/// assert!((parallel_transport(&Vec3::x(), &a, &b, &Vec3::x()) + Vec3::z()).norm() < 1e-15);
+/// assert!((parallel_transport(&Vec3::y(), &a, &b, &Vec3::x()) - Vec3::y()).norm() < 1e-15);
+/// // Antiparallel: a rotation by π about the fallback axis x.
+/// let d = parallel_transport(&Vec3::y(), &a, &-a, &Vec3::x());
+/// assert!((d + Vec3::y()).norm() < 1e-15);
+/// ```
+#[inline]
+pub fn parallel_transport(d: &Vec3, a: &Vec3, b: &Vec3, fallback_axis: &Vec3) -> Vec3 {
+    let c = a.dot(b);
+    if c > -0.9 {
+        let k = a.cross(b);
+        c * d + k.cross(d) + (k.dot(d) / (1.0 + c)) * k
+    } else {
+        let h = a + b;
+        let hh = h.norm_squared();
+        if hh > 1e-300 {
+            // S_h S_a d, reflections through the planes ⊥ a and ⊥ h.
+            let d1 = d - 2.0 * a.dot(d) * a;
+            d1 - (2.0 * h.dot(&d1) / hh) * h
+        } else {
+            let mut u = fallback_axis - a.dot(fallback_axis) * a;
+            if u.norm_squared() < 1e-12 {
+                let e = if a.x.abs() < 0.6 {
+                    Vec3::x()
+                } else {
+                    Vec3::y()
+                };
+                u = e - a.dot(&e) * a;
+            }
+            let u = u.normalize();
+            // Rotation by π about u: d ↦ 2(u·d)u − d.
+            2.0 * u.dot(d) * u - d
+        }
+    }
 }
 
 /// `sin x / x`, accurate near 0.

@@ -27,7 +27,7 @@ fn p_matrix() -> Mat3 {
 /// helix `kto` on `rig` at azimuth `alpha`, from the helix module.
 fn expected(rig: &Rig, kto: [Real; 3], alpha: Real) -> (Vec3, Mat3, Mat3) {
     let h = Helix::new(kto[0], kto[1], kto[2]).unwrap();
-    let e = h.end_pose(rig.rod.length, rig.rod.poisson).unwrap();
+    let e = h.end_pose(rig.rod.length, rig.rod.nu).unwrap();
     let rc = rig.clamp_rotation();
     let ra = rot_z(alpha);
     let p = rig.clamp.translation.vector + rc * ra * e.position;
@@ -61,7 +61,7 @@ fn verify(planner: &Planner, plan: &RayPlan) {
             .map(|x| rig.clamp.translation.vector + rc * (x * rig.rod.length))
             .collect()
     };
-    let c = 1.0 / (1.0 + rig.rod.poisson);
+    let c = 1.0 / (1.0 + rig.rod.nu);
     let dof = model.dof();
     for (k, pt) in path.iter().enumerate() {
         let w = &pt.waypoint;
@@ -255,14 +255,53 @@ fn fixed_roll_paths_verify() {
     assert!(testable >= 1, "no testable ray among the three");
 }
 
+/// How far a plan got must agree with its class and cause: testable reaches the target
+/// s*·(1 + margin) with every waypoint, anything else stops short with a cause.
+fn assert_progress(plan: &RayPlan) {
+    let end = plan.s_star * 1.1;
+    assert!(
+        (plan.s_end - end).abs() <= 1e-12 * end,
+        "target {} vs s*·1.1 = {end}",
+        plan.s_end
+    );
+    let last = plan
+        .path
+        .as_ref()
+        .and_then(|p| p.last())
+        .map(|p| p.waypoint.s);
+    if plan.class == ReachClass::Testable {
+        assert!(plan.s_reached >= plan.s_end * (1.0 - 1e-12), "{plan:?}");
+        assert_eq!(plan.n_reached, plan.n_waypoints);
+        assert!(plan.cause.is_none());
+        assert!(last.is_some_and(|s| (s - plan.s_end).abs() <= 1e-12 * plan.s_end));
+    } else {
+        assert!(plan.cause.is_some() && plan.s_reached < plan.s_end);
+    }
+}
+
 #[test]
 fn motor_roll_and_azimuth_paths_verify() {
     let planner = seed_planner();
     let d = Direction::new(0.5, 0.5, 0.7).unwrap();
+    let fixed = planner
+        .plan_ray(&d, s_star(&d), 0.0, RollMode::Fixed, true)
+        .unwrap();
     let plan = planner
         .plan_ray(&d, s_star(&d), 0.0, RollMode::Motor, true)
         .unwrap();
     verify(planner, &plan);
+    assert_progress(&fixed);
+    assert_progress(&plan);
+    // The motor frees the roll: every fixed-roll configuration is a motor-roll one, so the motor
+    // plan gets at least as far; on this ray of the seed rig it reaches the whole target
+    // s*·(1 + margin) (the seed rig's margin is 0.10).
+    assert!(
+        plan.s_reached >= fixed.s_reached * (1.0 - 1e-12),
+        "motor {} < fixed {}",
+        plan.s_reached,
+        fixed.s_reached
+    );
+    assert_eq!(plan.class, ReachClass::Testable, "motor plan: {plan:?}");
     let plan = planner
         .plan_ray(&d, s_star(&d), 2.0, RollMode::Fixed, true)
         .unwrap();

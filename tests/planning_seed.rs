@@ -228,7 +228,7 @@ fn reference_reaches(planner: &Planner, d: &Direction, n_wp: usize, grid: Real) 
     )
     .unwrap();
     let s_end = s_star(d) * (1.0 + rig.planner.margin);
-    let c = 1.0 / (1.0 + rig.rod.poisson);
+    let c = 1.0 / (1.0 + rig.rod.nu);
     let tool_inv = Frame::from_iso(&rig.tool).inverse();
     let rc = rig.clamp_rotation();
     let oc = rig.clamp.translation.vector;
@@ -238,7 +238,7 @@ fn reference_reaches(planner: &Planner, d: &Direction, n_wp: usize, grid: Real) 
     for k in 0..n_wp {
         let s = s_end * k as Real / (n_wp - 1) as Real;
         let h = Helix::new(s * d.kappa, s * d.tau, s * d.omega).unwrap();
-        let e = h.end_pose(l, rig.rod.poisson).unwrap();
+        let e = h.end_pose(l, rig.rod.nu).unwrap();
         let _ = c;
         let tool = Frame {
             rot: rc * e.transported * p_matrix(),

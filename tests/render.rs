@@ -12,7 +12,7 @@ use helixreach::plot::render::{
     Configuration, FrameSelection, Layout, Part, RenderOptions, Scene, Snapshot, Solid,
     TrajectoryRender, View,
 };
-use helixreach::robot::collision::{ObstaclePose, ObstacleShape, SceneObstacle};
+use helixreach::robot::collision::{ObstaclePose, SceneObstacle};
 use helixreach::robot::k_bridge::KRobot;
 use helixreach::robot::Shape;
 use rand::SeedableRng;
@@ -199,7 +199,7 @@ fn a_known_collision_draws_the_contact_pair() {
         .unwrap();
     rig.obstacles.push(SceneObstacle {
         name: "probe".into(),
-        shape: ObstacleShape::Sphere { radius: 0.01 },
+        shape: Shape::Sphere { radius: 0.01 },
         pose: ObstaclePose {
             xyz: [axis_mid.x, axis_mid.y, axis_mid.z],
             rpy: [0.0; 3],

@@ -321,8 +321,8 @@ fn bad_input_gives_clear_errors() {
 
 mod collision {
     use super::*;
-    use helixreach::robot::collision::{BodyRef, ObstaclePose, ObstacleShape};
-    use helixreach::robot::{CollisionModel, DisabledPairs, RodGeometry, SceneObstacle};
+    use helixreach::robot::collision::{BodyRef, ObstaclePose};
+    use helixreach::robot::{CollisionModel, DisabledPairs, RodGeometry, SceneObstacle, Shape};
 
     #[test]
     fn self_collision_agrees_with_parry_pairwise_queries() {
@@ -390,7 +390,7 @@ mod collision {
         }
     }
 
-    fn obstacle(name: &str, shape: ObstacleShape, xyz: [Real; 3]) -> SceneObstacle {
+    fn obstacle(name: &str, shape: Shape, xyz: [Real; 3]) -> SceneObstacle {
         SceneObstacle {
             name: name.into(),
             shape,
@@ -411,7 +411,7 @@ mod collision {
             let r = 0.03;
             let ball = obstacle(
                 "ball",
-                ObstacleShape::Sphere { radius: r },
+                Shape::Sphere { radius: r },
                 [tip.x + d + r, tip.y, tip.z],
             );
             cm.set_obstacles(&[ball]).unwrap();
@@ -424,7 +424,7 @@ mod collision {
         }
         let ball = obstacle(
             "ball",
-            ObstacleShape::Sphere { radius: 0.03 },
+            Shape::Sphere { radius: 0.03 },
             [tip.x + 0.02, tip.y, tip.z],
         );
         cm.set_obstacles(&[ball]).unwrap();
@@ -434,8 +434,8 @@ mod collision {
         // shoulder is.
         let table = obstacle(
             "table",
-            ObstacleShape::Box {
-                half_extents: [0.5, 0.5, 0.02],
+            Shape::Box {
+                half_extents: Vec3::new(0.5, 0.5, 0.02),
             },
             [0.85, -0.15, -0.3],
         );
@@ -443,9 +443,9 @@ mod collision {
         assert_eq!(cm.check(&q, &mut ws, None), None);
         let wall = obstacle(
             "wall",
-            ObstacleShape::Cylinder {
+            Shape::Cylinder {
                 radius: 0.05,
-                half_height: 0.5,
+                half_length: 0.5,
             },
             [0.0, 0.0, 0.3],
         );
@@ -453,7 +453,7 @@ mod collision {
         let c = cm.check(&q, &mut ws, None).unwrap();
         assert_eq!(c.b, BodyRef::Obstacle(1));
         // Bad obstacles name themselves.
-        let bad = obstacle("post", ObstacleShape::Sphere { radius: -1.0 }, [0.0; 3]);
+        let bad = obstacle("post", Shape::Sphere { radius: -1.0 }, [0.0; 3]);
         let e = cm.set_obstacles(&[bad]).unwrap_err();
         assert!(
             e.to_string().contains("post") && e.to_string().contains("radius"),

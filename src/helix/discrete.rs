@@ -77,38 +77,7 @@ pub fn edge_tangents(nodes: &[Vec3]) -> Result<Vec<Vec3>> {
 /// perpendicular axis if that vanishes).
 #[inline]
 pub fn transport_vector(d: &Vec3, a: &Vec3, b: &Vec3, fallback_axis: &Vec3) -> Vec3 {
-    let c = a.dot(b);
-    if c > -0.9 {
-        let v = a.cross(b);
-        let vd = v.cross(d);
-        d + vd + v.cross(&vd) / (1.0 + c)
-    } else {
-        let h = a + b;
-        let hh = h.norm_squared();
-        if hh > 1e-300 {
-            // S_h S_a d, reflections through the planes ⊥ a and ⊥ h.
-            let d1 = d - 2.0 * a.dot(d) * a;
-            d1 - (2.0 * h.dot(&d1) / hh) * h
-        } else {
-            let mut u = fallback_axis - a.dot(fallback_axis) * a;
-            if u.norm_squared() < 1e-12 {
-                u = perpendicular(a);
-            }
-            let u = u.normalize();
-            // Rotation by π about u: d ↦ 2(u·d)u − d.
-            2.0 * u.dot(d) * u - d
-        }
-    }
-}
-
-/// A unit vector perpendicular to the unit vector `a`.
-fn perpendicular(a: &Vec3) -> Vec3 {
-    let e = if a.x.abs() < 0.6 {
-        Vec3::x()
-    } else {
-        Vec3::y()
-    };
-    (e - a.dot(&e) * a).normalize()
+    crate::math::parallel_transport(d, a, b, fallback_axis)
 }
 
 /// Carry the frame `frame` = [d1 d2 d3] (d3 its tangent) to the unit tangent `t` by the minimal

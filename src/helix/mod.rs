@@ -226,23 +226,10 @@ impl Helix {
     }
 }
 
-/// The twist ratio c = k_t/k_b = 1/(1+ν) for a Poisson ratio ν ∈ (−1, 0.5] (the range of
-/// isotropic elastic solids); errors otherwise, naming `nu`.
+/// The twist ratio c = 1/(1+ν) ([`crate::math::twist_ratio`], re-exported here).
 ///
 /// ```
 /// assert_eq!(helixreach::helix::twist_ratio(0.0).unwrap(), 1.0);
 /// assert!(helixreach::helix::twist_ratio(0.6).is_err());
 /// ```
-pub fn twist_ratio(nu: Real) -> Result<Real> {
-    if !nu.is_finite() {
-        return Err(Error::invalid("nu", nu, "must be finite"));
-    }
-    if !(nu > -1.0 && nu <= 0.5) {
-        return Err(Error::invalid(
-            "nu",
-            nu,
-            "Poisson's ratio must lie in (-1, 0.5]",
-        ));
-    }
-    Ok(1.0 / (1.0 + nu))
-}
+pub use crate::math::twist_ratio;

@@ -114,27 +114,9 @@ impl RobotSpec {
     }
 }
 
-/// The rod's material and geometry.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RodSpec {
-    /// Length L (m).
-    pub length: Real,
-    /// Cross-section radius r (m).
-    pub radius: Real,
-    /// Young's modulus E (Pa).
-    pub youngs_modulus: Real,
-    /// Poisson's ratio ν.
-    pub poisson: Real,
-    /// Density ρ (kg/m³).
-    pub density: Real,
-}
-
-impl RodSpec {
-    /// c = k_t / k_b = 1/(1+ν) for a circular cross-section.
-    pub fn twist_ratio(&self) -> Real {
-        1.0 / (1.0 + self.poisson)
-    }
-}
+/// The rod's material and geometry: the crate's one rod type, [`PhysicalRod`] (the rig file's
+/// `rod.poisson` is its `nu`).
+pub use crate::rod::dynamics::PhysicalRod as RodSpec;
 
 /// The end-effector motor that turns the rod end about the tool z axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -709,7 +691,7 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
         length,
         radius,
         youngs_modulus,
-        poisson,
+        nu: poisson,
         density,
     };
 

@@ -155,7 +155,7 @@ impl Rig {
                 length: self.rod.length,
                 radius: self.rod.radius,
                 youngs_modulus: self.rod.youngs_modulus,
-                poisson: self.rod.poisson,
+                poisson: self.rod.nu,
                 density: self.rod.density,
             },
             motor: OutMotor {

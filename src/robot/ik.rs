@@ -69,7 +69,7 @@ impl IkTarget {
         }
         let r = &pose.rot;
         if !r.iter().all(|x| x.is_finite())
-            || (r.transpose() * r - Mat3::identity()).norm() > 1e-9
+            || (r.transpose() * r - Mat3::identity()).norm() > crate::math::tol::INPUT_ROTATION
             || r.determinant() < 0.0
         {
             return Err(Error::invalid(
@@ -87,7 +87,7 @@ impl IkTarget {
             crate::error::require_finite(&format!("target[{i}]"), *v)?;
         }
         let n = axis.norm();
-        if n < 1e-9 {
+        if n < crate::math::tol::ZERO_VECTOR {
             return Err(Error::invalid("target.axis", n, "must be non-zero"));
         }
         Ok(IkTarget::Axis {

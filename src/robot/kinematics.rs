@@ -144,10 +144,10 @@ pub(crate) fn axis_rotation(a: &Vec3, q: Real) -> Mat3 {
 pub(crate) fn z_to_axis(a: &Vec3) -> Mat3 {
     let z = Vec3::z();
     let c = z.dot(a);
-    if (c - 1.0).abs() < 1e-15 {
+    if (c - 1.0).abs() < crate::math::tol::PARALLEL {
         return Mat3::identity();
     }
-    if (c + 1.0).abs() < 1e-15 {
+    if (c + 1.0).abs() < crate::math::tol::PARALLEL {
         return Mat3::new(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0);
     }
     let axis = z.cross(a);

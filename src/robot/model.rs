@@ -36,8 +36,21 @@ pub struct JointInfo {
     pub axis: Vec3,
 }
 
-/// A primitive collision shape in its own frame (cylinders and capsules along local z).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A primitive collision shape in its own frame (cylinders and capsules along local z): the one
+/// shape type of the crate — URDF link geometry, rig-file scene obstacles (`shape = { type =
+/// "box", half_extents = [x, y, z] }`, `{ type = "cylinder", radius, half_length }`,
+/// `{ type = "capsule", radius, half_length }`, `{ type = "sphere", radius }`; a cylinder's
+/// `half_height` is read as `half_length`), collision and drawing.
+///
+/// ```
+/// use helixreach::robot::Shape;
+/// let s: Shape = toml::from_str("type = \"cylinder\"\nradius = 0.1\nhalf_height = 0.5").unwrap();
+/// assert_eq!(s, Shape::Cylinder { radius: 0.1, half_length: 0.5 });
+/// assert!(s.validate("post").is_ok());
+/// assert!(Shape::Sphere { radius: -1.0 }.validate("post").unwrap_err().to_string().contains("post: radius"));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Shape {
     /// Ball.
     Sphere {
@@ -47,6 +60,7 @@ pub enum Shape {
     /// Box.
     Box {
         /// Half extents along x, y, z (m).
+        #[serde(with = "crate::math::vec3_array")]
         half_extents: Vec3,
     },
     /// Cylinder along z, centred at the origin.
@@ -54,6 +68,7 @@ pub enum Shape {
         /// Radius (m).
         radius: Real,
         /// Half of the length (m).
+        #[serde(alias = "half_height")]
         half_length: Real,
     },
     /// Capsule along z: the points within `radius` of the segment `z ∈ [−half_length, half_length]`.
@@ -66,6 +81,49 @@ pub enum Shape {
 }
 
 impl Shape {
+    /// Check the sizes: finite, radii and half extents > 0, a capsule's half length ≥ 0 (0 is a
+    /// ball). Errors name `what` and the field (`post: radius`).
+    pub fn validate(&self, what: &str) -> Result<()> {
+        let check = |field: &str, v: Real, zero_ok: bool| -> Result<()> {
+            if v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0)) {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    format!("{what}: {field}"),
+                    v,
+                    if zero_ok {
+                        "must be finite and >= 0"
+                    } else {
+                        "must be finite and > 0"
+                    },
+                ))
+            }
+        };
+        match *self {
+            Shape::Sphere { radius } => check("radius", radius, false),
+            Shape::Box { half_extents } => {
+                for (i, v) in half_extents.iter().enumerate() {
+                    check(&format!("half_extents[{i}]"), *v, false)?;
+                }
+                Ok(())
+            }
+            Shape::Cylinder {
+                radius,
+                half_length,
+            } => {
+                check("radius", radius, false)?;
+                check("half_length", half_length, false)
+            }
+            Shape::Capsule {
+                radius,
+                half_length,
+            } => {
+                check("radius", radius, false)?;
+                check("half_length", half_length, true)
+            }
+        }
+    }
+
     /// Radius of a ball centred at the shape's origin that encloses it.
     pub fn bounding_radius(&self) -> Real {
         match *self {
@@ -295,7 +353,7 @@ pub fn pose_from_xyz_wxyz(v: &[Real]) -> Result<Frame> {
     }
     let q = nalgebra::Quaternion::new(v[3], v[4], v[5], v[6]);
     let n = q.norm();
-    if (n - 1.0).abs() > 1e-6 {
+    if (n - 1.0).abs() > crate::math::tol::UNIT_QUATERNION {
         return Err(Error::invalid(
             "pose quaternion (qw,qx,qy,qz)",
             format!("norm {n}"),

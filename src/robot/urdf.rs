@@ -238,7 +238,7 @@ fn build(robot: &urdf_rs::Robot, source: &str, tip_link: Option<&str>) -> Result
         if is_movable(&j.joint_type) {
             finite3(source, format!("joint {} axis", j.name), &j.axis.xyz)?;
             let a = Vec3::from(*j.axis.xyz);
-            if a.norm() < 1e-9 {
+            if a.norm() < crate::math::tol::ZERO_VECTOR {
                 return Err(bad(
                     source,
                     format!("joint {} axis", j.name),
@@ -445,7 +445,7 @@ fn build(robot: &urdf_rs::Robot, source: &str, tip_link: Option<&str>) -> Result
                     LinkMotion::Revolute {
                         dof,
                         axis,
-                        is_z: (axis - Vec3::z()).norm() < 1e-15,
+                        is_z: (axis - Vec3::z()).norm() < crate::math::tol::PARALLEL,
                     }
                 } else {
                     match j.joint_type {

@@ -13,7 +13,7 @@
 //! lengths `l̄_i = (ē_{i−1} + ē_i)/2` of the interior nodes `i = 1..n−1`, which weight the
 //! bending and twisting energies.
 
-use crate::error::{require_finite, require_positive, Error, Result};
+use crate::error::{require_positive, Error, Result};
 use crate::math::Real;
 
 /// Stiffnesses of an isotropic, naturally straight rod.
@@ -75,18 +75,7 @@ impl Material {
     }
 }
 
-/// `c = k_t/k_b = 1/(1+ν)`, for ν in (−1, 0.5].
-pub fn twist_ratio(nu: Real) -> Result<Real> {
-    require_finite("nu", nu)?;
-    if nu <= -1.0 || nu > 0.5 {
-        return Err(Error::invalid(
-            "nu",
-            nu,
-            "Poisson's ratio must be in (-1, 0.5]",
-        ));
-    }
-    Ok(1.0 / (1.0 + nu))
-}
+pub use crate::math::twist_ratio;
 
 /// The discretization of a rod: `n ≥ 2` edges with rest lengths, and the Voronoi lengths of the
 /// interior nodes.

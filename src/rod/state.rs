@@ -28,8 +28,9 @@
 //! # Parallel transport
 //! [`parallel_transport`] uses `P_{a→b} v = (a·b) v + (a×b)×v + ((a×b)·v)/(1 + a·b)·(a×b)`,
 //! which is smooth through `a = b` (the seed paper's formula divides by `|a×b|` and is undefined
-//! there). Antiparallel tangents (`1 + a·b < 10⁻¹²`) have no unique transport; a rotation by π
-//! about a fixed axis orthogonal to `a` is used.
+//! there). It is [`crate::math::parallel_transport`] (the crate's one transport); exactly
+//! antiparallel tangents have no unique transport and get the rotation by π about the component
+//! of x perpendicular to `a`.
 
 use crate::math::{Mat3, Real, Vec3};
 
@@ -46,19 +47,7 @@ use crate::math::{Mat3, Real, Vec3};
 /// ```
 #[inline]
 pub fn parallel_transport(v: &Vec3, a: &Vec3, b: &Vec3) -> Vec3 {
-    let c = a.dot(b);
-    if 1.0 + c < 1e-12 {
-        // Antiparallel: rotate by π about an axis orthogonal to a.
-        let u = if a.x.abs() < 0.9 {
-            Vec3::x()
-        } else {
-            Vec3::y()
-        };
-        let axis = (u - a * a.dot(&u)).normalize();
-        return 2.0 * axis.dot(v) * axis - v;
-    }
-    let k = a.cross(b);
-    c * v + k.cross(v) + (k.dot(v) / (1.0 + c)) * k
+    crate::math::parallel_transport(v, a, b, &Vec3::x())
 }
 
 /// Signed angle from `u` to `v` about the unit axis `t` (both ⊥ `t`), in (−π, π].

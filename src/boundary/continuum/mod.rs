@@ -147,13 +147,7 @@ impl Default for ContinuumParams {
 impl ContinuumParams {
     /// Check every field; errors name the field and value.
     pub fn validate(&self) -> Result<()> {
-        if !(self.nu.is_finite() && self.nu > -1.0 && self.nu <= 0.5) {
-            return Err(Error::invalid(
-                "nu",
-                self.nu,
-                "Poisson's ratio must be in (-1, 0.5]",
-            ));
-        }
+        crate::math::twist_ratio(self.nu)?;
         if !(self.tol_rel.is_finite() && self.tol_rel > 0.0 && self.tol_rel < 1.0) {
             return Err(Error::invalid(
                 "tol",
@@ -246,7 +240,7 @@ pub fn critical_s_with(dir: &Direction, p: &ContinuumParams) -> Result<CriticalS
             }
         });
     }
-    let c = 1.0 / (1.0 + p.nu);
+    let c = crate::math::twist_ratio(p.nu)?;
     let a = kernel::generator_balanced(dir.kappa, dir.tau, dir.omega, c);
     let r = scan::first_conjugate(&a, p.step, p.s_max, p.tol_rel);
     Ok(if r.t <= p.s_max {

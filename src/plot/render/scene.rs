@@ -27,7 +27,7 @@ use crate::error::{Error, Result};
 use crate::helix::Helix;
 use crate::math::{rot_z, Iso3, Mat3, Real, Vec3};
 use crate::planning::rig::Rig;
-use crate::robot::collision::{BodyRef, Contact, ObstacleShape, RodGeometry};
+use crate::robot::collision::{BodyRef, Contact, RodGeometry};
 use crate::robot::{CollisionModel, Frame, RobotModel, Shape};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, Shape as ParryShape};
@@ -336,29 +336,7 @@ impl Scene {
         let mut statics = Vec::new();
         for (k, o) in rig.obstacles.iter().enumerate() {
             let pose = Frame::from_xyz_rpy(o.pose.xyz, o.pose.rpy);
-            let solid = match &o.shape {
-                ObstacleShape::Box { half_extents } => Solid::Box {
-                    pose,
-                    half_extents: Vec3::from(*half_extents),
-                },
-                ObstacleShape::Cylinder {
-                    radius,
-                    half_height,
-                } => Solid::Cylinder {
-                    pose,
-                    radius: *radius,
-                    half_length: *half_height,
-                },
-                ObstacleShape::Capsule { a, b, radius } => Solid::Capsule {
-                    a: pose.transform_point(&Vec3::from(*a)),
-                    b: pose.transform_point(&Vec3::from(*b)),
-                    radius: *radius,
-                },
-                ObstacleShape::Sphere { radius } => Solid::Sphere {
-                    center: pose.pos,
-                    radius: *radius,
-                },
-            };
+            let solid = Solid::posed(&o.shape, &pose);
             statics.push(Body {
                 part: Part::Obstacle(k),
                 solid,

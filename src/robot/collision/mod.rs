@@ -31,7 +31,7 @@ mod walk;
 
 pub use disabled::{DisabledPair, DisabledPairs};
 pub use narrow::segment_distance_squared;
-pub use scene::{ObstaclePose, ObstacleShape, SceneObstacle};
+pub use scene::{ObstaclePose, SceneObstacle};
 
 use super::kinematics::{Chain, Frame};
 use super::model::RobotModel;

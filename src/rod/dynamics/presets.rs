@@ -138,6 +138,12 @@ impl PhysicalRod {
         Ok(())
     }
 
+    /// The twist ratio `c = k_t/k_b = 1/(1+ν)` (ν as validated by [`PhysicalRod::validate`] or
+    /// the rig loader; [`crate::math::twist_ratio`] checks it).
+    pub fn twist_ratio(&self) -> Real {
+        crate::math::twist_ratio_unchecked(self.nu)
+    }
+
     /// Cross-section area `A = πh²` (m²).
     pub fn area(&self) -> Real {
         std::f64::consts::PI * self.radius * self.radius
