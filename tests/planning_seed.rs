@@ -95,6 +95,213 @@ fn key(c: [Real; 3]) -> [i64; 3] {
     c.map(|x| (x * 1e6).round() as i64)
 }
 
+/// How far the seed's executed run of a ray proves an undisturbed path exists on our model
+/// (see [`witness`]): the run is a witness up to `extent` (in s on our ray), and `end` says why
+/// it stops being one there.
+#[derive(Debug, Clone, PartialEq)]
+struct Witness {
+    extent: Real,
+    end: WitnessEnd,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum WitnessEnd {
+    /// It reaches our target s_end: every step is a ladder edge or a self-motion walk at a held
+    /// pose, so the planner must find the ray testable.
+    Target,
+    /// The run's farthest s (projected on our ray) is short of our target s_end.
+    Short,
+    /// A row, corrected onto our pose, is invalid in our model (limits or collision).
+    Invalid(String),
+    /// A jump between two rows joins two configurations that no self-motion walk at the held pose
+    /// joins (different connected valid components): the seed disturbed the rod there.
+    Disjoint { step: Real, walks_stop: String },
+}
+
+/// Classify the seed's run `r` on `planner` (its rig with the run's clamp, margin 0), roll
+/// `fixed`, azimuth 0:
+/// 1. every row's s by projection onto our ray (`check`, continuum end frame); the loading rows
+///    up to our target s_end (or the run's farthest row);
+/// 2. each row corrected onto our pose at its s by one IK track from the seed's joints (the seed
+///    held a 100-edge discrete end frame, ≈ 3 mm / 2 mrad from ours), the first row onto the
+///    straight rod; each corrected row checked for limits and self / scene / rod collision;
+/// 3. each step over `max_joint_step` between corrected rows: the earlier row tracked onto the
+///    later row's pose, then self-motion walks at that held pose (both ways, resolution
+///    `self_motion_step`, every sample valid and inside the limits) must pass within half a
+///    joint step of the later row — else the jump is [`WitnessEnd::Disjoint`].
+///
+/// The witness extent is the s of the last row before the first invalid row or disjoint jump,
+/// or the run's farthest s (capped at s_end).
+fn witness(planner: &Planner, r: &SeedRun) -> Witness {
+    use helixreach::planning::check::{CheckOptions, Checker};
+    use helixreach::planning::pose_path::PoseMap;
+    use helixreach::planning::self_motion::{walk, Held, WalkSettings, Q};
+    let rig = planner.rig();
+    let model = planner.model();
+    let dof = model.dof();
+    let step = rig.planner.max_joint_step;
+    let checker = Checker::new(rig.clone()).unwrap();
+    let traj = checker
+        .read(&seed_dir().join("trajectories").join(&r.file))
+        .unwrap();
+    let rep = checker
+        .check(
+            &traj,
+            &CheckOptions {
+                direction: Some(r.dir),
+                ..CheckOptions::default()
+            },
+        )
+        .unwrap();
+    let s_rows: Vec<Real> = rep.row_checks.iter().map(|c| c.s.unwrap()).collect();
+    let s_end = s_star(&r.dir) * (1.0 + rig.planner.margin);
+    let i_far = (0..s_rows.len())
+        .max_by(|&a, &b| s_rows[a].total_cmp(&s_rows[b]))
+        .unwrap();
+    let far = Witness {
+        extent: s_rows[i_far].min(s_end),
+        end: if s_rows[i_far] < s_end {
+            WitnessEnd::Short
+        } else {
+            WitnessEnd::Target
+        },
+    };
+    let map = PoseMap::new(rig, 0.0);
+    let solver = IkSolver::new(
+        model,
+        IkParams {
+            redundancy_joint: None,
+            ..IkParams::default()
+        },
+    )
+    .unwrap();
+    let mut cm = CollisionModel::for_model(model).unwrap();
+    cm.set_obstacles(&rig.obstacles).unwrap();
+    let mut ws = cm.workspace();
+    let (lo, hi) = (model.lower(), model.upper());
+    let inside = |q: &[Real]| (0..dof).all(|j| q[j] >= lo[j] && q[j] <= hi[j]);
+    let dist = |a: &[Real], b: &[Real]| (0..dof).map(|j| (a[j] - b[j]).abs()).fold(0.0, Real::max);
+    let rod_at = |s: Real| -> Vec<Vec3> {
+        let h = Helix::new(s * r.dir.kappa, s * r.dir.tau, s * r.dir.omega).unwrap();
+        let rc = rig.clamp_rotation();
+        let oc = rig.clamp.translation.vector;
+        discrete::nodes(&h, rig.planner.rod_capsules)
+            .into_iter()
+            .map(|x| oc + rc * (x * rig.rod.length))
+            .collect()
+    };
+    // Corrected rows up to s_end.
+    let mut rows: Vec<(Real, Vec<Real>)> = Vec::new();
+    for i in 0..=i_far {
+        let s = if i == 0 { 0.0 } else { s_rows[i].min(s_end) };
+        let kto = [s * r.dir.kappa, s * r.dir.tau, s * r.dir.omega];
+        let tip = planner.tip_target(&map.end(kto).unwrap().0);
+        let before = rows.last().map_or(0.0, |r: &(Real, Vec<Real>)| r.0);
+        let invalid = |why: String| Witness {
+            extent: before,
+            end: WitnessEnd::Invalid(format!("s = {s:.3}: {why}")),
+        };
+        let Some(sol) = solver.track(&IkTarget::Pose(tip), traj.row(i), None) else {
+            return invalid("the IK correction does not converge".into());
+        };
+        let q = sol.joints().to_vec();
+        let nodes = rod_at(s);
+        let rod = RodGeometry {
+            nodes: &nodes,
+            radius: rig.rod.radius + rig.planner.rod_clearance,
+            ignore_near_tool: rig.planner.rod_end_exclusion,
+            ignore_near_clamp: 0.0,
+            against_scene: false,
+        };
+        if !inside(&q) {
+            return invalid("joint limit".into());
+        }
+        if let Some(c) = cm.check(&q, &mut ws, Some(&rod)) {
+            return invalid(format!("{}|{}", cm.name(c.a), cm.name(c.b)));
+        }
+        rows.push((s, q));
+        if s >= s_end {
+            break;
+        }
+    }
+    // Jumps.
+    let track = IkSolver::new(model, IkParams::default()).unwrap();
+    let settings = WalkSettings {
+        max_step: rig.planner.self_motion_step,
+        min_step: 1e-4,
+        joint_step_bound: step,
+        max_samples: 4000,
+    };
+    for w in rows.windows(2) {
+        let d = dist(&w[0].1, &w[1].1);
+        if d <= step {
+            continue;
+        }
+        let (s1, q1) = (w[1].0, &w[1].1);
+        let tip = model.chain().tool_pose(q1);
+        let disjoint = |walks_stop: String| Witness {
+            extent: w[0].0,
+            end: WitnessEnd::Disjoint {
+                step: d,
+                walks_stop: format!("s = {s1:.3}: {walks_stop}"),
+            },
+        };
+        let Some(a) = solver.track(&IkTarget::Pose(tip), &w[0].1, None) else {
+            return disjoint("no track onto the held pose".into());
+        };
+        let held = Held {
+            chain: model.chain(),
+            solver: &track,
+            tip,
+            dof,
+        };
+        let nodes = rod_at(s1);
+        let rod = RodGeometry {
+            nodes: &nodes,
+            radius: rig.rod.radius + rig.planner.rod_clearance,
+            ignore_near_tool: rig.planner.rod_end_exclusion,
+            ignore_near_clamp: 0.0,
+            against_scene: false,
+        };
+        let mut qa: Q = [0.0; MAX_DOF];
+        qa[..dof].copy_from_slice(a.joints());
+        let mut stops = Vec::new();
+        let mut joined = dist(&qa[..dof], q1) <= 0.5 * step;
+        for sign in [1.0, -1.0] {
+            if joined {
+                break;
+            }
+            let mut stop = String::from("manifold end");
+            let (_, hit) = walk(
+                &held,
+                &qa,
+                sign,
+                &settings,
+                |_, b| {
+                    if !inside(&b[..dof]) {
+                        stop = "joint limit".into();
+                        return false;
+                    }
+                    match cm.check(&b[..dof], &mut ws, Some(&rod)) {
+                        None => true,
+                        Some(c) => {
+                            stop = format!("{}|{}", cm.name(c.a), cm.name(c.b));
+                            false
+                        }
+                    }
+                },
+                |q| dist(&q[..dof], q1) <= 0.5 * step,
+            );
+            joined = hit;
+            stops.push(stop);
+        }
+        if !joined {
+            return disjoint(stops.join(" / "));
+        }
+    }
+    far
+}
+
 /// The seed's 58 directions, each with its own clamp, margin 0, roll `fixed`: the real robot
 /// drove every one of them, so the planner should find (nearly) every one testable.
 #[test]
@@ -115,16 +322,33 @@ fn seed_directions_are_testable_with_their_own_clamps() {
         .filter(|p| p.class == ReachClass::Testable)
         .count();
     let reconf: usize = plans.iter().map(|p| p.reconfigurations).sum();
-    for (r, p) in runs.iter().zip(&plans) {
-        if p.class != ReachClass::Testable {
-            eprintln!(
-                "{}: {} at s = {:.3} of {:.3}, cause {:?}",
-                r.file,
-                p.class.as_str(),
-                p.s_reached,
-                p.s_end,
-                p.cause
-            );
+    // Every miss must be explained by the seed's own run: the planner reaches at least as far
+    // as the run is an undisturbed witness (to within `S_SLACK`, about two waypoints).
+    const S_SLACK: Real = 0.02;
+    let misses: Vec<(&SeedRun, &_)> = runs
+        .iter()
+        .zip(&plans)
+        .filter(|(_, p)| p.class != ReachClass::Testable)
+        .collect();
+    let verdicts: Vec<Witness> = misses
+        .par_iter()
+        .map(|(r, _)| witness(&planners[&key(r.clamp)], r))
+        .collect();
+    let mut unexplained = Vec::new();
+    for ((r, p), v) in misses.iter().zip(&verdicts) {
+        eprintln!(
+            "{}: {} at s = {:.3} of {:.3} (cause {:?}); the seed's run is a witness to s = {:.3}, \
+             then {:?}",
+            r.file,
+            p.class.as_str(),
+            p.s_reached,
+            p.s_end,
+            p.cause,
+            v.extent,
+            v.end
+        );
+        if v.end == WitnessEnd::Target || p.s_reached < v.extent - S_SLACK {
+            unexplained.push(r.file.clone());
         }
     }
     eprintln!(
@@ -132,12 +356,16 @@ fn seed_directions_are_testable_with_their_own_clamps() {
          {reconf} reconfigurations",
         runs.len()
     );
-    // The goal is ≥ 95 % (the real robot drove all 58). Not reached yet: measured 45 of 58 on
-    // the rig as landed (table lowered by `check`; 26 of 58 with the old table 20 mm under the
-    // clamp). This floor catches regressions; raise it as the planner improves.
     assert!(
-        testable >= 42,
-        "{testable} of {} seed directions testable (floor 42; goal ≥ 95 %)",
+        unexplained.is_empty(),
+        "the seed's own run shows a feasible undisturbed path the planner misses: {unexplained:?}"
+    );
+    // The goal is ≥ 95 % (the real robot drove all 58). Measured 52 of 58; in each of the 6
+    // misses the seed's run jumps between disjoint self-motion components (it disturbed the rod)
+    // or stops short of our s*, before or at our stop. This floor catches regressions.
+    assert!(
+        testable >= 52,
+        "{testable} of {} seed directions testable (floor 52; goal ≥ 95 %)",
         runs.len()
     );
 }

@@ -23,6 +23,32 @@
 //!   scene- and rod-collision (the current helix as `rod_capsules` capsules of radius
 //!   r + `rod_clearance`, without the last `rod_end_exclusion` metres the motor grips).
 //!
+//! # Dense levels: the whole valid self-motion set of the start
+//! Which point of the start's self-motion set the ladder starts from decides which rays it
+//! drives: tracks are continuous, and a reconfiguration only walks the component of the nodes it
+//! holds at the pose where it is blocked. The seed experiment shows it: 7 of its 58 runs start on
+//! the same start component as our rungs (within 0.01 rad of a walk through it) but at a point
+//! our 8 base nodes miss, and only from there is the ray testable. So every connected valid
+//! component of the straight rod's pose is sampled densely — its IK solutions plus the
+//! self-motion walk through it at `self_motion_step` — and ordered farthest-point first (each
+//! prefix is spread over the component; a longer prefix contains a shorter one). A ray that the
+//! base rungs do not make testable is planned again from the first k nodes of every component,
+//! k = 2R, 4R, … ≤ `planner.dense_samples` (R = `redundancy_samples`; rung width k per
+//! component), and the farthest plan is kept; the first testable level ends the search.
+//!
+//! **Monotone in sampling**: the levels for `dense_samples` D are a subset of those for 2D, so
+//! doubling D never reaches less. (The base width R is not such a knob: raising it changes
+//! every level.)
+//!
+//! **Resolution**: level k samples each start component at k points, about L/k apart along it
+//! (L ≈ 5.7 rad max-norm for the seed rig's start loop: 227 walk samples at 0.05 rad), so
+//! `dense_samples` = 32 puts a start node every ≈ 0.18 rad of self-motion. Measured on the
+//! seed's 58 runs (`cargo run --release --example seed_witness -- --levels 8,16,32,64,128,256`):
+//! every answer is the same from k = 16 to 256 (52 testable; 45 without dense levels); the
+//! quarter-sphere convergence is in the README. Cost: a ray testable from the base rungs costs
+//! nothing more; a miss costs every level (≈ 0.4 s at k = 16, 1 s at 32, 5 s at 128 CPU for a
+//! ray blocked near its end, release, under load).
+//!
 //! # Edges
 //! `i → j` exists when every joint step is ≤ `max_joint_step`; its cost is `‖W·Δq‖ +
 //! w_m·|Δm|`. The straight joint-space segment is checked for collision at interior samples no
@@ -205,6 +231,10 @@ impl RigOverrides {
 struct StartSet {
     first: Vec<Node>,
     others: Vec<Vec<Node>>,
+    /// Every connected valid start component, densely sampled (its IK solutions and the
+    /// self-motion walk through it), in farthest-point order: any prefix is spread over the
+    /// component and a longer prefix contains a shorter one (the dense levels).
+    comps: Vec<Vec<Node>>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -498,9 +528,22 @@ impl Planner {
         let first_idx = farthest_indices(&out, k, self.dof);
         // Label the valid solutions by connected valid self-motion component (walks at the
         // straight rod's pose); components the first rung misses become further start rungs.
-        let label = self.components(&out, &mut sc);
+        let (label, walks) = self.components(&out, &mut sc);
         let mut others = Vec::new();
         let n_labels = label.iter().copied().max().map_or(0, |m| m + 1);
+        let comps: Vec<Vec<Node>> = (0..n_labels)
+            .map(|l| {
+                let pool: Vec<Node> = (0..out.len())
+                    .filter(|&i| label[i] == l)
+                    .map(|i| out[i])
+                    .chain(walks[l].iter().copied())
+                    .collect();
+                farthest_order(&pool, self.dof)
+                    .into_iter()
+                    .map(|i| pool[i])
+                    .collect()
+            })
+            .collect();
         for l in 0..n_labels {
             if first_idx.iter().any(|&i| label[i] == l) {
                 continue;
@@ -515,16 +558,18 @@ impl Planner {
         Ok(StartSet {
             first: first_idx.into_iter().map(|i| out[i]).collect(),
             others,
+            comps,
         })
     }
 
     /// Component labels (0, 1, …) of valid configurations that hold one tool pose (`sc.rod`
     /// holds the rod): two share a label when a self-motion walk from one passes
     /// within half a joint step of the other. Without 7 joints every node is its own component.
-    fn components(&self, nodes: &[Node], sc: &mut Scratch) -> Vec<usize> {
+    fn components(&self, nodes: &[Node], sc: &mut Scratch) -> (Vec<usize>, Vec<Vec<Node>>) {
         let mut label = vec![usize::MAX; nodes.len()];
+        let mut walks: Vec<Vec<Node>> = Vec::new();
         let Ok(solver) = IkSolver::new(&self.model, self.ik.clone()) else {
-            return (0..nodes.len()).collect();
+            return ((0..nodes.len()).collect(), vec![Vec::new(); nodes.len()]);
         };
         let p = &self.rig.planner;
         let settings = WalkSettings {
@@ -539,6 +584,7 @@ impl Planner {
                 continue;
             }
             label[i] = next;
+            walks.push(Vec::new());
             if self.dof == 7 {
                 let held = Held {
                     chain: self.model.chain(),
@@ -571,11 +617,12 @@ impl Planner {
                             label[j] = next;
                         }
                     }
+                    walks[next].extend(samples.iter().map(|q| node(*q, motor)));
                 }
             }
             next += 1;
         }
-        label
+        (label, walks)
     }
 
     fn edge_cost(&self, a: &Node, b: &Node) -> Option<Real> {
@@ -637,6 +684,78 @@ impl Planner {
         }
     }
 
+    /// The start configurations (straight rod) of roll mode `roll`: the first start rung, then
+    /// each further start component's rung ([`Planner`] module docs). Empty when the clamp is
+    /// unreachable in that mode.
+    pub fn start_configurations(&self, roll: RollMode) -> Vec<Vec<Real>> {
+        let Ok(set) = self.start(roll) else {
+            return Vec::new();
+        };
+        set.first
+            .iter()
+            .chain(set.others.iter().flatten())
+            .map(|n| n.q[..self.dof].to_vec())
+            .collect()
+    }
+
+    /// [`Planner::plan_ray`] from the caller's start configurations instead of the cached start
+    /// rungs (each must hold the straight rod's end pose to 1e-6 m / rad, else an error; one in
+    /// collision or outside the limits is dropped): how far the
+    /// ladder gets from a given start, e.g. the start of an executed trajectory. Roll mode as
+    /// given (no `fixed` fallback). Errors: a configuration of the wrong length.
+    pub fn plan_ray_from(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+        start: &[Vec<Real>],
+    ) -> Result<RayPlan> {
+        let mut sc = self.new_scratch();
+        let straight = [0.0; 3];
+        self.rod_nodes(straight, azimuth, &mut sc.rod)?;
+        let w0 = Waypoint {
+            s: 0.0,
+            kto: straight,
+            tool: self.rig.straight_tool_pose(),
+            motor: 0.0,
+        };
+        let target = self.target(&w0.tool, roll);
+        let mut nodes = Vec::with_capacity(start.len());
+        for q in start {
+            if q.len() != self.dof {
+                return Err(Error::invalid(
+                    "start configuration",
+                    format!("{q:?}"),
+                    format!("needs {} joints", self.dof),
+                ));
+            }
+            let (dp, dr) = target.errors(&self.model.chain().tool_pose(q));
+            if !(dp <= 1e-6 && dr <= 1e-6) {
+                return Err(Error::invalid(
+                    "start configuration",
+                    format!("{q:?}"),
+                    format!(
+                        "does not hold the straight rod's end pose ({dp:.3e} m, {dr:.3e} rad off)"
+                    ),
+                ));
+            }
+            let motor = self.motor_angle(&w0, q, roll, 0.0);
+            if self.check_config(q, &mut sc).is_err() || !self.motor_ok(motor) {
+                continue;
+            }
+            let mut n = Node {
+                q: [0.0; MAX_DOF],
+                motor,
+            };
+            n.q[..self.dof].copy_from_slice(q);
+            nodes.push(n);
+        }
+        let width = self.rig.planner.redundancy_samples;
+        self.plan_from(dir, s_star, azimuth, roll, want_path, &nodes, width)
+    }
+
     /// Plan from the first start rung; when that is not testable, from each further start
     /// component in turn, keeping the farthest (the first testable ends the search).
     fn plan_ray_in(
@@ -648,16 +767,34 @@ impl Planner {
         want_path: bool,
     ) -> Result<RayPlan> {
         let set = self.start(roll).ok();
+        let width = self.rig.planner.redundancy_samples;
         let first = set.map_or(&[][..], |s| &s.first[..]);
-        let mut best = self.plan_from(dir, s_star, azimuth, roll, want_path, first)?;
+        let mut best = self.plan_from(dir, s_star, azimuth, roll, want_path, first, width)?;
         for group in set.map_or(&[][..], |s| &s.others[..]) {
             if best.class == ReachClass::Testable {
                 break;
             }
-            let p = self.plan_from(dir, s_star, azimuth, roll, want_path, group)?;
+            let p = self.plan_from(dir, s_star, azimuth, roll, want_path, group, width)?;
             if p.s_reached > best.s_reached {
                 best = p;
             }
+        }
+        // Dense levels: nested, denser samplings of every start component.
+        let comps = set.map_or(&[][..], |s| &s.comps[..]);
+        let mut k = 2 * width;
+        while k <= self.rig.planner.dense_samples && best.class != ReachClass::Testable {
+            let start: Vec<Node> = comps
+                .iter()
+                .flat_map(|c| c.iter().take(k).copied())
+                .collect();
+            let p = self.plan_from(dir, s_star, azimuth, roll, want_path, &start, start.len())?;
+            if p.s_reached > best.s_reached {
+                best = p;
+            }
+            if comps.iter().all(|c| c.len() <= k) {
+                break;
+            }
+            k *= 2;
         }
         Ok(best)
     }
@@ -670,6 +807,7 @@ impl Planner {
         roll: RollMode,
         want_path: bool,
         start: &[Node],
+        width: usize,
     ) -> Result<RayPlan> {
         if s_star.is_nan() || s_star <= 0.0 {
             return Err(Error::invalid("s_star", s_star, "must be > 0 (or +inf)"));
@@ -728,7 +866,16 @@ impl Planner {
         let mut reconfigured_at: Option<Real> = None;
         while next < wps.len() {
             let w = pending.last().unwrap_or(&wps[next]).clone();
-            match self.push_rung(&mut ladder, &w, azimuth, roll, &solver, &mut sc, &mut order)? {
+            match self.push_rung(
+                &mut ladder,
+                &w,
+                azimuth,
+                roll,
+                &solver,
+                &mut sc,
+                &mut order,
+                width,
+            )? {
                 None => {
                     accepted.push(w);
                     if pending.pop().is_none() {
@@ -1003,8 +1150,8 @@ impl Planner {
         solver: &IkSolver<'_>,
         sc: &mut Scratch,
         order: &mut Vec<usize>,
+        width: usize,
     ) -> Result<Option<BlockCause>> {
-        let width = self.rig.planner.redundancy_samples;
         let step = self.rig.planner.max_joint_step;
         let (lower, upper) = (self.model.lower(), self.model.upper());
         self.rod_nodes(w.kto, azimuth, &mut sc.rod)?;
@@ -1227,6 +1374,38 @@ pub fn material_from_arm(rig: &Rig, r_arm: &Mat3, m: Real) -> Mat3 {
 
 fn node(q: self_motion::Q, motor: Real) -> Node {
     Node { q, motor }
+}
+
+/// Farthest-point order of `nodes` (max-norm joint distance) from the first: each next index is
+/// the node farthest from those before it (ties: the lowest index). Every prefix is a greedy
+/// spread sample, and prefixes are nested. O(n²).
+fn farthest_order(nodes: &[Node], dof: usize) -> Vec<usize> {
+    if nodes.is_empty() {
+        return Vec::new();
+    }
+    let dist = |a: &Node, b: &Node| {
+        (0..dof)
+            .map(|j| (a.q[j] - b.q[j]).abs())
+            .fold(0.0, Real::max)
+    };
+    let mut order = vec![0usize];
+    let mut taken = vec![false; nodes.len()];
+    taken[0] = true;
+    let mut dmin: Vec<Real> = nodes.iter().map(|n| dist(n, &nodes[0])).collect();
+    while order.len() < nodes.len() {
+        let mut best = usize::MAX;
+        for i in 0..nodes.len() {
+            if !taken[i] && (best == usize::MAX || dmin[i] > dmin[best]) {
+                best = i;
+            }
+        }
+        taken[best] = true;
+        order.push(best);
+        for i in 0..nodes.len() {
+            dmin[i] = dmin[i].min(dist(&nodes[i], &nodes[best]));
+        }
+    }
+    order
 }
 
 /// Greedy farthest-point selection of `k` nodes (max-norm joint distance), starting from the

@@ -147,8 +147,14 @@ pub struct PlannerSettings {
     pub max_waypoints: usize,
     /// Largest step of any joint on a ladder edge (rad).
     pub max_joint_step: Real,
-    /// Diverse fresh IK solutions at the start of a ray.
+    /// Diverse fresh IK solutions at the start of a ray (the base rung width).
     pub redundancy_samples: usize,
+    /// Densest start sampling, in nodes per connected valid start component: a ray the base
+    /// rungs do not make testable is planned again from nested, denser samplings of the whole
+    /// valid self-motion set of the straight rod (2R, 4R, … ≤ this, R = `redundancy_samples`;
+    /// [`crate::planning::planner`] "Dense levels"). 0 or ≤ R: no dense levels. Doubling it
+    /// never reaches less.
+    pub dense_samples: usize,
     /// Joint-space interpolation step for segment collision checks (rad).
     pub segment_check_step: Real,
     /// Number of capsules modelling the rod against the arm.
@@ -228,6 +234,7 @@ impl Default for PlannerSettings {
             max_waypoints: 20_000,
             max_joint_step: 0.05,
             redundancy_samples: 8,
+            dense_samples: 32,
             segment_check_step: 0.02,
             rod_capsules: 24,
             rod_clearance: 0.005,
@@ -532,6 +539,7 @@ struct RawPlanner {
     max_waypoints: Option<usize>,
     max_joint_step: Option<Real>,
     redundancy_samples: Option<usize>,
+    dense_samples: Option<usize>,
     segment_check_step: Option<Real>,
     rod_capsules: Option<usize>,
     rod_clearance: Option<Real>,
@@ -849,6 +857,11 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             "planner.redundancy_samples",
             p.redundancy_samples.unwrap_or(d.redundancy_samples),
             1,
+        )?,
+        dense_samples: c.count(
+            "planner.dense_samples",
+            p.dense_samples.unwrap_or(d.dense_samples),
+            0,
         )?,
         segment_check_step: c.positive(
             "planner.segment_check_step",

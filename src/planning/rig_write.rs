@@ -99,6 +99,7 @@ struct OutPlanner<'a> {
     max_waypoints: usize,
     max_joint_step: Real,
     redundancy_samples: usize,
+    dense_samples: usize,
     segment_check_step: Real,
     rod_capsules: usize,
     rod_clearance: Real,
@@ -108,6 +109,9 @@ struct OutPlanner<'a> {
     #[serde(skip_serializing_if = "<[Real]>::is_empty")]
     joint_weights: &'a [Real],
     motor_weight: Real,
+    allow_reconfiguration: bool,
+    self_motion_step: Real,
+    hold_time: Real,
 }
 
 fn arr(v: &crate::math::Vec3) -> [Real; 3] {
@@ -179,6 +183,7 @@ impl Rig {
                 max_waypoints: pl.max_waypoints,
                 max_joint_step: pl.max_joint_step,
                 redundancy_samples: pl.redundancy_samples,
+                dense_samples: pl.dense_samples,
                 segment_check_step: pl.segment_check_step,
                 rod_capsules: pl.rod_capsules,
                 rod_clearance: pl.rod_clearance,
@@ -187,6 +192,9 @@ impl Rig {
                 velocity_scale: pl.velocity_scale,
                 joint_weights: &pl.joint_weights,
                 motor_weight: pl.motor_weight,
+                allow_reconfiguration: pl.allow_reconfiguration,
+                self_motion_step: pl.self_motion_step,
+                hold_time: pl.hold_time,
             },
             obstacles: &self.obstacles,
         };
