@@ -168,6 +168,10 @@ pub struct RayPlan {
     pub n_reached: usize,
     /// Self-motion reconfigurations at a held pose on the path.
     pub reconfigurations: usize,
+    /// Start nodes per start component of the level that produced this plan: the base width
+    /// `redundancy_samples`, or k of a dense level (module docs). A ray testable at level k is
+    /// testable for every `dense_samples` ≥ k.
+    pub start_samples: usize,
     /// DP cost of the path to `s_reached`.
     pub path_cost: Real,
     /// Largest joint step on the path (rad).
@@ -787,7 +791,9 @@ impl Planner {
                 .iter()
                 .flat_map(|c| c.iter().take(k).copied())
                 .collect();
-            let p = self.plan_from(dir, s_star, azimuth, roll, want_path, &start, start.len())?;
+            let mut p =
+                self.plan_from(dir, s_star, azimuth, roll, want_path, &start, start.len())?;
+            p.start_samples = k;
             if p.s_reached > best.s_reached {
                 best = p;
             }
@@ -835,6 +841,7 @@ impl Planner {
             n_waypoints: wps.len(),
             n_reached: 0,
             reconfigurations: 0,
+            start_samples: width,
             path_cost: 0.0,
             max_joint_step: 0.0,
             path: None,
