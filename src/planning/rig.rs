@@ -114,7 +114,7 @@ impl RobotSpec {
     }
 }
 
-/// The rod's material and geometry: the crate's one rod type, [`PhysicalRod`] (the rig file's
+/// The rod's material and geometry: the crate's one rod type, [`PhysicalRod`](crate::rod::dynamics::PhysicalRod) (the rig file's
 /// `rod.poisson` is its `nu`).
 pub use crate::rod::dynamics::PhysicalRod as RodSpec;
 

@@ -4,7 +4,7 @@
 //! ## Map
 //! | module | holds |
 //! |---|---|
-//! | [`scene`] | the rig file's obstacle schema ([`SceneObstacle`]), validation, placement as a [`Shape`] |
+//! | [`scene`] | the rig file's obstacle schema ([`SceneObstacle`]), validation, placement as a [`Shape`](crate::robot::Shape) |
 //! | `narrow` | bodies, their owners (link or obstacle) and the exact pair test and distance |
 //! | `walk` | the one walk over the checked pairs, shared by the boolean checks and the clearances |
 //! | [`disabled`] | which link pairs self-collision skips ([`DisabledPairs`]) |
