@@ -455,3 +455,48 @@ fn the_verifier_catches_corrupted_paths() {
         &|p| p.path.as_mut().unwrap()[6].phase = Phase::Reconfigure
     ));
 }
+
+/// A scene obstacle that forces a reconfiguration (issue 10): a ball of radius 0.07 m where the
+/// unobstructed plan of (0.5, 0.5, 0.7) puts `right_l3` at 30 % of its path (found by a search
+/// over link positions of that path). Without reconfiguration no plan gets past s ≈ 9.5; with
+/// it the ray is testable, and `verify` re-checks every intermediate configuration of every
+/// reconfiguration with a fresh collision model that includes the ball: the rod end within
+/// 1e-6 m / 1e-6 rad along each joint-linear chord, s and the motor constant, limits, self /
+/// scene / rod collision at 0.005 rad, steps ≤ `max_joint_step`.
+#[test]
+fn an_obstacle_forces_a_reconfiguration() {
+    use helixreach::robot::collision::{ObstaclePose, SceneObstacle};
+    use helixreach::robot::Shape;
+    let mut rig = Rig::load("sawyer-seed").unwrap();
+    rig.obstacles.push(SceneObstacle {
+        name: "probe".into(),
+        shape: Shape::Sphere { radius: 0.07 },
+        pose: ObstaclePose {
+            xyz: [0.20101114348229562, 0.3789120671947688, 0.5599953923814629],
+            rpy: [0.0; 3],
+        },
+    });
+    let d = Direction::new(0.5, 0.5, 0.7).unwrap();
+    let s = s_star(&d);
+    let mut none = rig.clone();
+    none.planner.allow_reconfiguration = false;
+    let blocked = Planner::new(none)
+        .unwrap()
+        .plan_ray(&d, s, 0.0, RollMode::Fixed, false)
+        .unwrap();
+    assert_ne!(
+        blocked.class,
+        ReachClass::Testable,
+        "the ball must block every plan without reconfiguration"
+    );
+    let planner = Planner::new(rig).unwrap();
+    let plan = planner.plan_ray(&d, s, 0.0, RollMode::Fixed, true).unwrap();
+    assert_eq!(
+        plan.class,
+        ReachClass::Testable,
+        "reconfiguration must get past the ball (without: s = {})",
+        blocked.s_reached
+    );
+    assert!(plan.reconfigurations >= 1);
+    verify(&planner, &plan);
+}
