@@ -875,3 +875,36 @@ fn huge_numbers_print_compactly_in_errors() {
         "{e}"
     );
 }
+
+/// Instant items followed by costly ones (a layout: placements ruled out at once, then planned
+/// rays) still checkpoint on time: before the fix the instant items sized one batch of every
+/// remaining item, which then ran without a checkpoint or a progress line (a seed layout sat
+/// silent for minutes).
+#[test]
+fn checkpoints_stay_on_time_when_items_turn_costly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.csv");
+    let mut o = opts(&out);
+    o.checkpoint_interval = Duration::from_millis(100);
+    // 300 instant items, then 50 costly ones per thread (≥ 0.5 s of sleep on every thread).
+    let n = 300 + 50 * rayon::current_num_threads() as u64;
+    let summary = driver::run(
+        &items(n),
+        key,
+        |x| {
+            if *x >= 300 {
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            square(x)
+        },
+        &o,
+    )
+    .unwrap();
+    assert!(
+        summary.checkpoints >= 2,
+        "{} checkpoints, first at {:?}",
+        summary.checkpoints,
+        summary.first_checkpoint
+    );
+    assert_eq!(data_rows(&out).len(), n as usize);
+}

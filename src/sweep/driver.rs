@@ -26,10 +26,12 @@
 //!   runs (`OUT.<pid>.tmp`) are removed.
 //! - **Outputs are checked before computing**: the lock file is created beside the output, so a
 //!   missing or read-only directory fails before the first item.
-//! - **Checkpoints honour the interval**: batches are sized from the measured throughput to last
-//!   about a quarter of `checkpoint_interval` (≥ 20 ms, ≤ 2 s), so the first checkpoint comes
-//!   within about 1.25 × the interval (plus one item's time).
-//! - **Parallel at the outermost level only** (a rayon `par_iter` over the items of a batch) and
+//! - **Checkpoints honour the interval**: each batch runs until a deadline a quarter of
+//!   `checkpoint_interval` away (≥ 20 ms, ≤ 2 s) — workers claim items in input order and stop
+//!   claiming at the deadline, so a batch is a prefix of the remaining items whatever they cost —
+//!   and the first checkpoint comes within about 1.25 × the interval (plus one item's time), also
+//!   when cheap items are followed by costly ones.
+//! - **Parallel at the outermost level only** (rayon workers over the items of a batch) and
 //!   **deterministic**: rows are in input order and each row is a pure function of its item, so
 //!   the output is identical for any thread count.
 //! - **Standard output and devices**: `OUT = -` streams the record, header and rows to stdout in
@@ -73,6 +75,7 @@ use std::collections::HashMap;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 /// One CSV row (its fields).
@@ -391,6 +394,44 @@ impl Progress {
     }
 }
 
+/// `f(i)` for a prefix of `chunk`, in parallel on the rayon pool, results in `chunk` order.
+///
+/// `threads` workers claim positions in order from one counter and compute every position they
+/// claim; with a `deadline`, no worker claims a new position after it (the first `threads`
+/// positions are always claimed, so every call makes progress). The claimed positions are
+/// therefore exactly `0..m` for some `m ≥ 1`: a prefix, whatever the items cost.
+fn compute_prefix<R: Send>(
+    chunk: &[usize],
+    deadline: Option<Instant>,
+    threads: usize,
+    f: impl Fn(usize) -> R + Sync,
+) -> Vec<R> {
+    let counter = AtomicUsize::new(0);
+    let workers = threads.clamp(1, chunk.len().max(1));
+    let mut done: Vec<(usize, R)> = (0..workers)
+        .into_par_iter()
+        .flat_map_iter(|_| {
+            let mut mine = Vec::new();
+            loop {
+                if deadline.is_some_and(|d| Instant::now() >= d)
+                    && counter.load(Ordering::Relaxed) >= workers
+                {
+                    break;
+                }
+                let k = counter.fetch_add(1, Ordering::Relaxed);
+                if k >= chunk.len() {
+                    break;
+                }
+                mine.push((k, f(chunk[k])));
+            }
+            mine
+        })
+        .collect();
+    done.sort_unstable_by_key(|(k, _)| *k);
+    debug_assert!(done.iter().enumerate().all(|(n, (k, _))| n == *k));
+    done.into_iter().map(|(_, r)| r).collect()
+}
+
 /// Run `compute` over `items` (see the module docs), writing `opts.out`.
 ///
 /// `key(item)` must equal the first `opts.key_columns` fields of `compute(item)`; a mismatch,
@@ -490,7 +531,6 @@ where
     let threads = rayon::current_num_threads().max(1);
     let target =
         (opts.checkpoint_interval / 4).clamp(Duration::from_millis(20), Duration::from_secs(2));
-    let mut batch = if opts.batch > 0 { opts.batch } else { threads };
     let partial = partial_path(&opts.out);
     let t0 = Instant::now();
     let mut last_checkpoint = t0;
@@ -499,25 +539,21 @@ where
     let mut computed = 0;
     let mut next = 0;
     while next < todo.len() {
-        let chunk = &todo[next..(next + batch).min(todo.len())];
+        // A fixed batch (`opts.batch`), or every remaining item under a deadline: workers claim
+        // items in input order and stop claiming at the deadline, so the finished items are a
+        // prefix of the remainder whatever the items cost.
+        let (chunk, deadline) = if opts.batch > 0 {
+            (&todo[next..(next + opts.batch).min(todo.len())], None)
+        } else {
+            (&todo[next..], Some(Instant::now() + target))
+        };
+        let results = compute_prefix(chunk, deadline, threads, |i| {
+            let r = compute(&items[i]);
+            progress.bar.inc(1);
+            r
+        });
+        let chunk = &chunk[..results.len()];
         next += chunk.len();
-        let tb = Instant::now();
-        let bar = &progress.bar;
-        let results: Vec<Result<Row>> = chunk
-            .par_iter()
-            .map(|&i| {
-                let r = compute(&items[i]);
-                bar.inc(1);
-                r
-            })
-            .collect();
-        let elapsed = tb.elapsed();
-        if opts.batch == 0 {
-            // Size the next batch to last about `target` at the measured throughput.
-            let per_item = elapsed.as_secs_f64() / chunk.len() as f64;
-            let n = (target.as_secs_f64() / per_item.max(1e-9)) as usize;
-            batch = n.clamp(threads, 8192);
-        }
         let mut failure = None;
         for (&i, r) in chunk.iter().zip(results) {
             let checked = r.and_then(|row| {
