@@ -5,6 +5,7 @@
 //! |---|---|
 //! | [`reduction`] | the critical mode and the Koiter coefficients of the DER energy at s* |
 //! | [`unloading`] | the post-snap equilibrium followed back down in s (static `s_return`) |
+//! | [`survey`] | the type over a set of directions; the seed's 42 labelled directions |
 //!
 //! # The reduced equation
 //! Along a ray the helix `q₀(s)` is an equilibrium for every s (exactly in the continuum; the
@@ -56,6 +57,7 @@
 //! ```
 
 pub mod reduction;
+pub mod survey;
 pub mod unloading;
 
 use crate::boundary::der::{DerBoundaryParams, DerRay};

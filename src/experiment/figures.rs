@@ -1,6 +1,12 @@
 //! Stage 6 (feature `plots`): the figures of a study, PNG and SVG, from its typed outcomes, and
 //! `speed_error.csv`; with a planned trajectory also the render strip of robot, rod and scene
 //! ([`crate::plot::render::render_trajectory`]: `render_strip.png`/`.svg`, `render_frames.csv`).
+//!
+//! The bifurcation map (`bifurcation_map.png`/`.svg`, issue 12) needs no earlier stage: the
+//! type of every direction of a quarter-sphere lattice is computed here
+//! ([`crate::bifurcation::survey`]: [`BIFURCATION_QUICK`] in quick mode, [`BIFURCATION_FULL`]
+//! otherwise), written to `bifurcation.csv` (the columns of `helixreach bifurcation`), and drawn
+//! with the seed's 42 labelled directions marked.
 
 use super::{paper_directions, write, Log, StudyReport};
 use crate::directions::Direction;
@@ -10,6 +16,84 @@ use crate::plot;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
+
+/// The demo's bifurcation map in quick mode: (quarter-sphere directions, DER edges, static
+/// return point).
+pub const BIFURCATION_QUICK: (usize, usize, bool) = (24, 24, false);
+/// The same in full mode.
+pub const BIFURCATION_FULL: (usize, usize, bool) = (150, 50, true);
+
+/// Classify the quarter-sphere lattice of the demo's mode, write `bifurcation.csv`, and draw
+/// the map with the seed's labels (see the module docs).
+fn bifurcation_map(
+    quick: bool,
+    out: &Path,
+    figure: &mut dyn FnMut(&str, &dyn Fn(&Path) -> Result<()>) -> Result<()>,
+    log: &Log,
+) -> Result<()> {
+    use crate::bifurcation::{survey, BifurcationParams};
+    let (n_dirs, n_edges, with_return) = if quick {
+        BIFURCATION_QUICK
+    } else {
+        BIFURCATION_FULL
+    };
+    let dirs = crate::directions::fibonacci(n_dirs, true)?;
+    let mut p = BifurcationParams::planning();
+    p.der.n_edges = n_edges;
+    p.statics_return = with_return;
+    let t = std::time::Instant::now();
+    let results = survey::survey(&dirs, &p)?;
+    let mut csv = String::from(
+        "dir_kappa,dir_tau,dir_omega,s_star,type,coefficient,s_return,hysteresis,resolution,reason\n",
+    );
+    let opt = |x: f64| {
+        if x.is_nan() {
+            String::new()
+        } else {
+            x.to_string()
+        }
+    };
+    for (d, b) in dirs.iter().zip(&results) {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},n={n_edges},\"{}\"",
+            d.kappa,
+            d.tau,
+            d.omega,
+            opt(b.s_star),
+            b.kind.name(),
+            opt(b.coefficient),
+            opt(b.s_return),
+            opt(b.hysteresis()),
+            b.reason.replace('"', "'")
+        );
+    }
+    write(out, "bifurcation.csv", &csv)?;
+    let count = |k: &str| results.iter().filter(|b| b.kind.name() == k).count();
+    log.say(
+        "figures",
+        format!(
+            "bifurcation types of {n_dirs} quarter-sphere directions (DER n = {n_edges}): {} \
+             subcritical, {} supercritical, {} degenerate in {:.1} s",
+            count("subcritical"),
+            count("supercritical"),
+            count("degenerate"),
+            t.elapsed().as_secs_f64()
+        ),
+    );
+    let rows: Vec<_> = dirs
+        .iter()
+        .zip(&results)
+        .map(|(d, b)| plot::bifurcation_map::BifurcationRow::from_result(*d, b))
+        .collect();
+    let labelled: Vec<_> = survey::seed_labels()?
+        .iter()
+        .map(plot::bifurcation_map::BifurcationRow::from_label)
+        .collect();
+    figure("bifurcation_map", &|p| {
+        plot::bifurcation_map::render(&rows, &labelled, p)
+    })
+}
 
 /// Outcome of [`figures`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -73,6 +157,7 @@ pub fn figures(report: &StudyReport, out: &Path, log: &Log) -> Result<Figures> {
         }
         log.say("figures", "render_strip drawn");
     }
+    bifurcation_map(report.settings.mode == "quick", out, &mut figure, log)?;
     let rows = report.speed_rows();
     if !rows.is_empty() {
         let mut csv =

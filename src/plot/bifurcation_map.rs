@@ -31,6 +31,27 @@ pub struct BifurcationRow {
     pub hysteresis: Option<f64>,
 }
 
+impl BifurcationRow {
+    /// The row of a [`crate::bifurcation::classify`] result for `dir`.
+    pub fn from_result(dir: Direction, b: &crate::bifurcation::Bifurcation) -> Self {
+        let h = b.hysteresis();
+        BifurcationRow {
+            dir,
+            kind: b.kind.name().to_string(),
+            hysteresis: h.is_finite().then_some(h),
+        }
+    }
+
+    /// The row of one of the seed's labelled directions (no hysteresis drawn: a label).
+    pub fn from_label(l: &crate::bifurcation::survey::SeedLabel) -> Self {
+        BifurcationRow {
+            dir: l.dir,
+            kind: l.kind.name().to_string(),
+            hysteresis: None,
+        }
+    }
+}
+
 /// Read the rows of a `helixreach bifurcation` CSV.
 pub fn read_bifurcation(path: &Path) -> Result<Vec<BifurcationRow>> {
     read_rows(path, true)
