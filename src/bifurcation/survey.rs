@@ -29,10 +29,10 @@ pub struct SeedLabel {
     pub dir: Direction,
     /// The seed's label.
     pub kind: BifurcationType,
-    /// Where the seed's dynamic run jumped (s).
-    pub s_jump: Real,
-    /// Where it returned to the helix on unloading (s).
-    pub s_return: Real,
+    /// Where the seed's dynamic run jumped (s; `None` for a supercritical ray: no jump).
+    pub s_jump: Option<Real>,
+    /// Where it returned to the helix on unloading (s; `None` for a supercritical ray).
+    pub s_return: Option<Real>,
 }
 
 /// The 42 labelled directions of [`SEED_LABELS_CSV`], in file order.
@@ -40,7 +40,9 @@ pub struct SeedLabel {
 /// ```
 /// let l = helixreach::bifurcation::survey::seed_labels().unwrap();
 /// assert_eq!(l.len(), 42);
-/// assert!(l.iter().all(|x| x.s_return < x.s_jump));
+/// use helixreach::bifurcation::BifurcationType::Subcritical;
+/// assert!(l.iter().filter(|x| x.kind == Subcritical).all(|x| x.s_return < x.s_jump));
+/// assert_eq!(l.iter().filter(|x| x.kind != Subcritical).count(), 4);
 /// ```
 pub fn seed_labels() -> Result<Vec<SeedLabel>> {
     let mut out = Vec::new();
@@ -60,11 +62,18 @@ pub fn seed_labels() -> Result<Vec<SeedLabel>> {
             f[i].parse::<Real>()
                 .map_err(|e| bad(format!("field {}: {e}", i + 1)))
         };
+        let opt = |i: usize| -> Result<Option<Real>> {
+            if f[i].is_empty() {
+                Ok(None)
+            } else {
+                x(i).map(Some)
+            }
+        };
         out.push(SeedLabel {
             dir: Direction::new(x(0)?, x(1)?, x(2)?)?,
             kind: BifurcationType::parse(f[3])?,
-            s_jump: x(4)?,
-            s_return: x(5)?,
+            s_jump: opt(4)?,
+            s_return: opt(5)?,
         });
     }
     Ok(out)
