@@ -23,14 +23,12 @@ pub const BIFURCATION_QUICK: (usize, usize, bool) = (24, 24, false);
 /// The same in full mode.
 pub const BIFURCATION_FULL: (usize, usize, bool) = (150, 50, true);
 
+/// Draws one figure (PNG and SVG) by a renderer writing to a path.
+type DrawFigure<'a> = dyn FnMut(&str, &dyn Fn(&Path) -> Result<()>) -> Result<()> + 'a;
+
 /// Classify the quarter-sphere lattice of the demo's mode, write `bifurcation.csv`, and draw
 /// the map with the seed's labels (see the module docs).
-fn bifurcation_map(
-    quick: bool,
-    out: &Path,
-    figure: &mut dyn FnMut(&str, &dyn Fn(&Path) -> Result<()>) -> Result<()>,
-    log: &Log,
-) -> Result<()> {
+fn bifurcation_map(quick: bool, out: &Path, figure: &mut DrawFigure<'_>, log: &Log) -> Result<()> {
     use crate::bifurcation::{survey, BifurcationParams};
     let (n_dirs, n_edges, with_return) = if quick {
         BIFURCATION_QUICK
