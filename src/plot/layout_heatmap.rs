@@ -116,7 +116,7 @@ impl Figure for Map<'_> {
         let ((x0, x1), (y0, y1)) = self.ranges();
         // Plot x (base frame) to the right, y up; keep equal scale within a sane size.
         let w = 1200.0;
-        let h = (w - 260.0) * (y1 - y0) / (x1 - x0) + 240.0;
+        let h = (w - 260.0) * (y1 - y0) / (x1 - x0) + 288.0;
         (w as u32, h.clamp(500.0, 1600.0) as u32)
     }
 
@@ -134,6 +134,8 @@ impl Figure for Map<'_> {
             )
             .margin(20)
             .margin_right(40)
+            // Room for the footnote under the x-axis title.
+            .margin_bottom(48)
             .x_label_area_size(70)
             .y_label_area_size(100)
             .build_cartesian_2d(x0..x1, y0..y1)?;
@@ -217,7 +219,7 @@ impl Figure for Map<'_> {
             chart.draw_series(std::iter::once(
                 EmptyElement::at((x, y))
                     + Circle::new((0, 0), 14, style::BLACK.stroke_width(3))
-                    + Text::new(format!("{}", i + 1), (-6, -10), font.clone()),
+                    + Text::new(format!("{}", i + 1), (13, -32), font.clone()),
             ))?;
         }
         super::draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
