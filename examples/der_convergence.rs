@@ -126,7 +126,13 @@ fn main() -> anyhow::Result<()> {
             .map(|d| {
                 let t0 = Instant::now();
                 let c0 = thread_cpu_seconds(&t0);
-                let s = critical_s(d, &p).map(|c| c.s_star).unwrap_or(f64::NAN);
+                let s = match critical_s(d, &p) {
+                    Ok(c) => c.s_star,
+                    Err(e) => {
+                        eprintln!("  n = {n}: {}: {e}", name(d));
+                        f64::NAN
+                    }
+                };
                 let dt = thread_cpu_seconds(&t0) - c0;
                 let k = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if k % (nd / 10).max(1) == 0 || k == nd {

@@ -355,7 +355,9 @@ fn omega_axis_critical() -> Real {
 }
 
 /// On the κ axis the discrete rod loses stability exactly when the arc closes into a circle
-/// (both clamped edges coincide), s* = 2π, at any n.
+/// (both clamped edges coincide), s* = 2π, at any n — to the solver's resolution of the sign of
+/// μ next to a singular Hessian (≈ 1e-6: at n = 30 the search ends at 2π·(1 + 1.3e-6), the
+/// evaluation at 2π·(1 + 5e-7) is already unstable).
 #[test]
 fn der_boundary_on_the_kappa_axis_is_two_pi() {
     for n in [8usize, 30] {
@@ -366,7 +368,7 @@ fn der_boundary_on_the_kappa_axis_is_two_pi() {
         };
         let r = critical_s(&Direction::new(1.0, 0.0, 0.0).unwrap(), &p).unwrap();
         assert!(
-            (r.s_star / std::f64::consts::TAU - 1.0).abs() < 1e-6,
+            (r.s_star / std::f64::consts::TAU - 1.0).abs() < 3e-6,
             "n {n}: {}",
             r.s_star
         );
@@ -642,13 +644,14 @@ fn der_too_close_to_the_kappa_zero_plane_is_an_error() {
 /// discretization error largest.
 #[test]
 fn der_order_two_on_hard_directions() {
-    for v in [
-        [0.0203, -0.1789, -0.9837],
-        [0.0503, 0.3288, -0.9430],
-        [0.175, -0.366, -0.914],
+    for (v, ns) in [
+        ([0.0203, -0.1789, -0.9837], [50, 100, 200]),
+        ([0.0503, 0.3288, -0.9430], [50, 100, 200]),
+        // n = 50 is refused there (0.67 rad per edge).
+        ([0.175, -0.366, -0.914], [100, 200, 400]),
     ] {
         let d = Direction::new(v[0], v[1], v[2]).unwrap();
-        let e = der_errors(&d, &[50, 100, 200]);
+        let e = der_errors(&d, &ns);
         for w in e.windows(2) {
             let ratio = w[0] / w[1];
             assert!((3.3..5.5).contains(&ratio), "{v:?}: {e:?}");
@@ -658,23 +661,130 @@ fn der_order_two_on_hard_directions() {
 }
 
 /// Issue 13: at n = 25 the direction (0.175, −0.366, −0.914) was 55 % off with an est_error of
-/// 1e-8 (root finding only): the frames turn 1.4 rad per edge there. The est_error now includes
-/// the discretization bound and covers the actual error at n = 25 and 50, and remains a useful
-/// bound (below 5 %) at n = 100.
+/// 1e-8 (root finding only): the frames turn 1.4 rad per edge there. At n = 25 it is now
+/// refused by the resolution guard (naming the n needed); from n = 50 on the est_error includes
+/// the discretization bound and covers the actual error, and from n = 100 on it is useful
+/// (below 8 %).
 #[test]
 fn der_n25_outlier_est_error_covers_the_discretization_error() {
     use helixreach::boundary::continuum;
     let d = Direction::new(0.175, -0.366, -0.914).unwrap();
     let c = continuum::critical_s(&d, 1e-11).unwrap().s_star;
-    for n in [25usize, 50, 100] {
+    for n in [25usize, 50, 100, 200] {
         let p = DerBoundaryParams {
             n_edges: n,
             ..Default::default()
         };
-        let r = critical_s(&d, &p).unwrap();
-        assert!((r.s_star - c).abs() <= r.est_error, "n = {n}: {r:?} vs {c}");
-        if n == 100 {
-            assert!(r.est_error < 0.05 * c, "n = {n}: {r:?}");
+        match critical_s(&d, &p) {
+            Ok(r) => {
+                assert!(n >= 50, "n = {n}: {r:?}");
+                assert!((r.s_star - c).abs() <= r.est_error, "n = {n}: {r:?} vs {c}");
+                assert!(n < 100 || r.est_error < 0.08 * c, "n = {n}: {r:?}");
+            }
+            Err(e) => assert!(
+                n < 50 && e.to_string().contains("use n_edges >="),
+                "{n}: {e}"
+            ),
         }
     }
+}
+
+/// Issue 13: with the stiff stretching penalty (k_s = 10⁸) Newton's basin was tiny, predicted
+/// starts near s* failed and the failures counted as "unstable": at n = 100 these directions
+/// were −1.0 %, −1.5 % and −1.0 % off while n = 50 and 200 were within 10⁻⁴, and
+/// (0.2248, −0.9743, 0.0168) stalled with an error. With the augmented-Lagrangian
+/// inextensibility they converge at second order through n = 100.
+#[test]
+fn der_n100_is_right_where_newton_used_to_fail() {
+    for v in [
+        [0.3242, -0.9423, 0.0830],
+        [0.5527, 0.7485, -0.3664],
+        [0.8293, -0.1715, -0.5319],
+        [0.2248, -0.9743, 0.0168],
+    ] {
+        let d = Direction::new(v[0], v[1], v[2]).unwrap();
+        let e = der_errors(&d, &[50, 100]);
+        let ratio = e[0] / e[1];
+        assert!(
+            e[1].abs() < 5e-4 && (3.3..5.5).contains(&ratio),
+            "{v:?}: {e:?}"
+        );
+    }
+}
+
+/// Issue 13's truth defect: on the large-s* band κ̂ ≲ 0.08, |ω̂| ≈ 0.9 the discrete rod at
+/// n = 100 is far from its asymptotic regime ((0.0328, 0.4693, 0.8824): continuum s* = 96.65,
+/// DER 70.3 ± 17, 27 % off, was written as a number). At n = 100 it is now an error naming the
+/// n needed (1.24 rad per edge); from n = 200 on the result is within its est_error of the
+/// continuum (12 % off at n = 200, 1.2 % at n = 800); and on
+/// (0.035, 0.4236, 0.9052) at n = 200 (143.5 against 92.87, pre-asymptotic) the check
+/// against the continuum turns the number into an error.
+#[test]
+fn der_unresolved_large_s_band_is_an_error_not_a_number() {
+    use helixreach::boundary::continuum;
+    let d = Direction::new(0.0328, 0.4693, 0.8824).unwrap();
+    let c = continuum::critical_s(&d, 1e-11).unwrap().s_star;
+    assert!((c - 96.65).abs() < 0.01, "{c}");
+    let at = |n: usize| {
+        let p = DerBoundaryParams {
+            n_edges: n,
+            tol_rel: 1e-6,
+            ..Default::default()
+        };
+        critical_s(&d, &p)
+    };
+    let e = at(100).unwrap_err().to_string();
+    assert!(
+        e.contains("too coarse") && e.contains("use n_edges >="),
+        "{e}"
+    );
+    for n in [200usize, 800] {
+        let r = at(n).unwrap();
+        assert!((r.s_star - c).abs() <= r.est_error, "n = {n}: {r:?} vs {c}");
+        assert!(r.est_error < 0.25 * c, "n = {n}: {r:?}");
+        assert!(
+            n != 800 || (r.s_star - c).abs() < 0.02 * c,
+            "n = {n}: {r:?}"
+        );
+    }
+    let d = Direction::new(0.035, 0.4236, 0.9052).unwrap();
+    let p = DerBoundaryParams {
+        n_edges: 200,
+        tol_rel: 1e-6,
+        ..Default::default()
+    };
+    let e = critical_s(&d, &p).unwrap_err().to_string();
+    assert!(e.contains("disagrees with the continuum"), "{e}");
+}
+
+/// The empirical discretization bound of `est_error` (`DISCRETIZATION_COEFF·φ²·s*`) covers the
+/// actual error on its own: on 40 half-sphere directions at n = 50 no result is refused by the
+/// check against the continuum (only the documented guards may refuse a direction), and the
+/// bound is useful (below 50 % of s* everywhere, median below 3 %).
+#[test]
+fn der_est_error_covers_the_error_on_a_sample() {
+    use helixreach::boundary::continuum;
+    use helixreach::error::Error;
+    let p = DerBoundaryParams {
+        n_edges: 50,
+        ..Default::default()
+    };
+    let mut solved = 0;
+    let mut rel = Vec::new();
+    for d in helixreach::directions::fibonacci(40, false).unwrap() {
+        let c = continuum::critical_s(&d, 1e-11).unwrap().s_star;
+        match critical_s(&d, &p) {
+            Ok(r) => {
+                solved += 1;
+                assert!((r.s_star - c).abs() <= r.est_error, "{d:?}: {r:?} vs {c}");
+                assert!(r.est_error < 0.5 * c, "{d:?}: {r:?}");
+                rel.push(r.est_error / c);
+            }
+            Err(Error::InvalidParameter { .. }) => {}
+            Err(e) => panic!("{d:?}: {e}"),
+        }
+    }
+    assert!(solved >= 36, "{solved}");
+    rel.sort_by(|a, b| a.total_cmp(b));
+    assert!(rel[rel.len() / 2] < 0.03, "{rel:?}");
 }

@@ -3,10 +3,14 @@
 //! For a unit direction S̄ and a distance s, the rod of length 1 is clamped at both ends
 //! ([`crate::rod::clamp`]): edge 0 along z with the identity material frame at the origin, edge
 //! n−1 at the end of the helix `(κ, τ, ω) = s·S̄` with its tangent and its material frame (the
-//! transported frame turned by `ω/c` about the tangent). The equilibrium is found by Newton
-//! ([`crate::rod::statics`]) and followed along the ray by continuation in s: the first point
-//! of a ray is a nearly straight rod (s ≤ 1) started from the helix sampled at the nodes, every
-//! later one from the sampled helix plus the previous discrete correction scaled like s². A cold
+//! transported frame turned by `ω/c` about the tangent). The equilibrium of the *inextensible*
+//! discrete rod is found by Newton ([`crate::rod::statics`]) inside an augmented Lagrangian
+//! (see "Inextensibility") and followed along the ray by continuation in s: the first point of
+//! a ray is a nearly straight rod (s ≤ 1) started from the helix sampled at the nodes, every
+//! later one from the sampled helix plus a prediction of the discrete correction (equilibrium
+//! minus sampled helix): the secant through the last two converged points of `correction/s²`
+//! (the correction scales like s² away from s*, and the secant also follows the growth of the
+//! critical mode near s*). Steps grow by at most ×1.3 and are halved when Newton fails. A cold
 //! start from the sampled helix far along the ray is never used by the search: near s* it can
 //! converge to another equilibrium (one with two negative eigenvalues, or a stable buckled
 //! shape), which made s* 3–126 % wrong near the τ axis (issue 13). The twist angles start at
@@ -16,7 +20,7 @@
 //! straight rod.
 //!
 //! Stable ⇔ the free Hessian is positive definite (banded LDLᵀ inertia, no eigen-solve). The
-//! critical distance s* is bracketed by stepping s geometrically (from 4, ×1.6) and then refined
+//! critical distance s* is bracketed by stepping s geometrically (from 4, ×1.5) and then refined
 //! by regula falsi (Illinois) on the free Hessian's smallest-magnitude eigenvalue μ(s)
 //! (inverse iteration with the LDLᵀ factors), with the *predicate* deciding which end of the
 //! bracket moves and a bisection fallback whenever the bracket fails to halve, until the
@@ -25,49 +29,73 @@
 //! Folds: the discrete clamps and sampling perturb the helix slightly (`O(1/n²)`). Where the
 //! critical mode is antisymmetric the loss of stability stays a clean bifurcation (an
 //! equilibrium with one negative eigenvalue just past s*); where it is symmetric (e.g. near the
-//! τ axis, Euler buckling of the compressed, nearly straight rod) the perturbed branch ends at
-//! a fold and Newton finds no nearby equilibrium past it. A Newton failure therefore counts as
-//! unstable, and [`DerRay::branch_ended`] reports which case ended the search.
+//! τ axis, Euler buckling of the compressed, nearly straight rod) the perturbed branch can end
+//! at a fold and Newton finds no nearby equilibrium past it. A continuation that stalls where
+//! |μ| has fallen below a quarter of its value at the ray's start counts as unstable (the
+//! branch ended), anywhere else it is an error; [`DerRay::branch_ended`] reports which case
+//! ended the search.
 //!
 //! [`critical_s`] seeds the bracket search with the continuum s* (`continuum_seed`, default):
 //! the DER value differs from it by `O(1/n²)`, so the bracket is found in one or two probes
-//! instead of a geometric search from s = 4. The result does not depend on the seed.
+//! instead of a geometric search from s = 4. The DER predicate alone decides the bracket.
 //!
 //! The κ = 0 plane: the helix is the straight rod; on the τ axis it is untwisted and unloaded,
 //! stable for every s, and `s* = ∞` is returned; with ω ≠ 0 it is the twisted clamped rod.
 //!
-//! # Extensibility
-//! The DER rod is extensible with the penalty stiffness `k_s` ([`DerBoundaryParams::stretch`],
-//! default [`BOUNDARY_STRETCH`] = 10⁸), the continuum is not. The helix's internal force
-//! `|n| = |ω − τ|·√(κ² + τ²)` (∝ s²) strains the rod by `|n|/k_s`, which shifts s* by about
-//! that relative amount; with the physical `k_s = 10⁶` this was ~10⁻⁵ … 5·10⁻⁴, above the
-//! discretization error at n = 200 on many directions, so the error stopped decreasing with n.
-//! Near the κ = 0 plane the end is brought closer to the clamp only by the chord shortening of
-//! the helix, `δ = 1 − |r(1)| ≈ κ̂²/2`: when `|n|/k_s` is not small against δ the penalized rod
-//! stays straight and compressed instead of buckling (s* = ∞ was returned at (8.6e-6, 1, 0),
-//! where the continuum gives the Euler column 2π). [`critical_s`] therefore refuses a
-//! direction with `|n|/k_s > 0.1·δ` at the continuum s* ([`check_extensibility`],
-//! [`MAX_STRAIN_TO_SHORTENING`]) with an error naming both numbers: with the default `k_s` that
-//! is κ̂ ≲ 3·10⁻³ on the τ axis (use the continuum method there, or a larger `stretch`).
+//! # Inextensibility
+//! The continuum reference is inextensible. A stiff stretching penalty (`k_s = 10⁸`, the
+//! previous approach) made Newton's basin tiny (a transverse move δ strains an edge by
+//! δ²/2ē²): near s* Newton failed from close predictions, and failures read as "unstable"
+//! made s* up to 1.5 % wrong at n = 100 on directions where n = 50 and 200 were right (e.g.
+//! (0.3242, −0.9423, 0.0830): −1.0 % at n = 100, 1e-4 at n = 50 and 200). Now `k_s`
+//! only conditions Newton, which works with `k_s = min(stretch, 10⁶)`
+//! ([`DerBoundaryParams::stretch`], default [`BOUNDARY_STRETCH`] = 10⁸): after each solve the
+//! stretching rest lengths are shifted,
+//! `ē'_j = ē_j/(1 + f_j/k_s)` with `f_j` the edge's axial force
+//! ([`crate::rod::Rod::set_stretch_rest_length`]), until every edge has its rest length to
+//! [`AL_STRAIN_TOL`] = 10⁻⁹ — the augmented-Lagrangian (method of multipliers) update; it takes
+//! one or two updates of 1–2 Newton iterations each, and `k_s` is raised tenfold when an
+//! update is slow (a nearly straight rod, whose axial stiffness between the clamps is huge).
+//! The inextensible equilibrium is then relaxed by Newton to the equilibrium of the penalty rod
+//! of stiffness `stretch` with its true rest lengths (an axial strain `O(f/k_s)` away, well
+//! inside the basin): the stability test, [`DerRay::rod`] and [`DerRay::state`] are that
+//! model's — the DER rod of the dynamics and of the bifurcation analysis — and it differs from
+//! the inextensible rod by ≈ |n|/k_s relative in s* (≈ 10⁻⁸ … 10⁻⁵ at the default 10⁸). The
+//! augmented Lagrangian is how the equilibrium is *reached* robustly.
+//!
+//! Near the κ = 0 plane the helix's compression is carried by a chord shortening
+//! `δ = 1 − |r(1)| ≈ κ̂²/2` that the discrete equilibrium cannot resolve once it falls to the
+//! strain floor of the solve: [`critical_s`] refuses a direction with `|n|/k_guard > 0.1·δ` at
+//! the continuum s* (`|n| = |ω − τ|·√(κ² + τ²)` the helix's internal force,
+//! `k_guard` = [`EXTENSIBILITY_GUARD_STRETCH`] = 10⁸; [`check_extensibility`]) with an error
+//! naming both numbers: κ̂ ≲ 3·10⁻³ on the τ axis (use the continuum method there).
 //!
 //! # Resolution
 //! The frames of the helix turn by [`rotation_per_edge`] `φ = s*·√(κ̂² + τ̂² + (ω̂/c)²)/(n − 1)`
 //! radians per edge; the relative discretization error is ≈ 0.1…0.3·φ² (straddling clamps):
 //! 1.4 % at φ = 0.33 (n = 100) but 55 % at φ = 1.36 (n = 25) on (0.175, −0.366, −0.914),
-//! s* ≈ 25.5. Above [`MAX_ROTATION_PER_EDGE`] = 1.5 rad per edge [`critical_s`] returns an error
-//! naming the n needed ([`check_resolution`]).
+//! s* ≈ 25.5. Above [`MAX_ROTATION_PER_EDGE`] = 0.9 rad per edge (where the `est_error` bound
+//! below reaches ≈ 50 %) [`critical_s`] returns an error naming the n needed
+//! ([`check_resolution`]). Below it the discrete rod may still be outside its asymptotic
+//! regime: on the large-s* band κ̂ ≲ 0.1, |ω̂| ≈ 0.9 (s* = 40…120, where the two
+//! wavenumbers of the twisted rod's critical mode nearly coincide and the discretization error
+//! of each is amplified) the error at φ ≈ 0.6–1.2 is 12–54 % and can even grow from n = 100 to
+//! n = 200 ((0.035, 0.4236, 0.9052), continuum 92.87: 132.9 and 143.5, then 97.5, 93.9, 93.1
+//! at n = 400, 800, 1600 — second order only from φ ≈ 0.3). Such results fail the check
+//! against the continuum below and are errors.
 //!
 //! # What `est_error` covers
 //! The `est_error` of a [`critical_s`] result is the half-width of the final bracket (root
 //! finding to `tol_rel`) **plus** an empirical discretization bound
-//! `DISCRETIZATION_COEFF·φ²·s*` ([`DISCRETIZATION_COEFF`] = 0.3). It is **not** a guarantee:
-//! on the 2,000-direction half-sphere it covered the actual error on all but 8, 13 and 9
-//! directions at n = 50, 100, 200 (the README's DER section names the outliers: the κ → 0 band
-//! with |ω̂| ≈ 0.9 and directions near the τ axis where the discrete branch folds).
-//! [`DerRay::critical_s`] (the ray
-//! alone) reports the bracket only. The measured discretization error (raw and
-//! Richardson-extrapolated, `(4·s*_{2n} − s*_n)/3`) over the half-sphere is the README's DER
-//! table (`examples/der_convergence.rs`).
+//! `DISCRETIZATION_COEFF·φ²·s*` at the continuum s* ([`DISCRETIZATION_COEFF`] = 0.6; the largest measured
+//! |s*_n/s*_∞ − 1|/φ² is 0.26 outside the large-s* band and ≈ 0.5 on it once resolved). The bound is then *checked*: [`critical_s`]
+//! computes the continuum s* anyway (the seed), and a DER s* farther from it than `est_error`
+//! (plus the continuum's own tolerance) is returned as an error naming both values, never as
+//! a number — so every s* written is within its `est_error` of the continuum. The README's DER
+//! table counts these errors. [`DerRay::critical_s`] (the ray alone) reports the bracket only
+//! and is not checked. The measured discretization error (raw and Richardson-extrapolated,
+//! `(4·s*_{2n} − s*_n)/3`) over the half-sphere is the README's DER table
+//! (`examples/der_convergence.rs`).
 //!
 //! ```
 //! use helixreach::boundary::der::{critical_s, DerBoundaryParams};
@@ -87,13 +115,32 @@ use crate::rod::params::twist_ratio;
 use crate::rod::statics::{self, NewtonParams};
 use crate::rod::{Material, Rod, RodState, Workspace};
 
+/// The stretching penalty of the Newton solves (augmented Lagrangian, module docs
+/// "Inextensibility"): Newton's basin shrinks like `ē/√k_s`.
+const NEWTON_STRETCH: Real = 1e6;
 /// First stretching stiffness of the continuation in [`DerRay::evaluate`].
-const STRETCH_START: Real = 1e4;
+const STRETCH_START: Real = 1e6;
 /// Growth factor of the stretching stiffness per continuation step.
 const STRETCH_STEP: Real = 10.0;
 /// The first evaluation of a ray (a cold start) is at `min(s, COLD_START_S)`: a nearly straight
 /// rod, where the sampled helix is in Newton's basin of the helical equilibrium.
 const COLD_START_S: Real = 1.0;
+
+/// Largest edge strain `|ℓ_j/ē_j − 1|` accepted as inextensible (module docs,
+/// "Inextensibility").
+pub const AL_STRAIN_TOL: Real = 1e-9;
+/// The strain floor of the augmented Lagrangian in units of the Newton residual over `k_s`.
+const AL_FLOOR_FACTOR: Real = 1e3;
+/// An augmented-Lagrangian update that reduces the strain by less than this factor is slow:
+/// the penalty is raised tenfold (up to [`AL_MAX_STRETCH`]).
+const AL_SLOW: Real = 0.3;
+/// Largest penalty the augmented Lagrangian raises `k_s` to.
+const AL_MAX_STRETCH: Real = 1e9;
+/// Most rest-length updates of the augmented Lagrangian.
+const AL_MAX_ITERS: usize = 20;
+
+/// Largest ratio between consecutive s of the continuation along a ray.
+const MAX_STEP_RATIO: Real = 1.3;
 
 /// Newton iterations allowed from the predicted start before falling back.
 const PREDICTED_MAX_ITERS: usize = 10;
@@ -112,30 +159,32 @@ const BRACKET_GROWTH: Real = 1.5;
 
 /// Default stretching stiffness `k_s L²/k_b` of the boundary ([`DerBoundaryParams::stretch`]).
 ///
-/// The continuum reference is inextensible; the penalty `k_s` shifts s* by `O(|n|/k_s)` where
-/// `|n| ∝ s²` is the helix's internal force (≈ 5·10⁻⁴ relative at s* ≈ 25 with the physical
-/// `k_s = 10⁶` of [`crate::rod::params::DEFAULT_STRETCH`], above the discretization error at
-/// n = 200), and near the κ = 0 plane the helix's chord shortening `δ ≈ κ̂²/2` must exceed the
-/// axial strain `|n|/k_s` for the compressed rod to buckle at all (module docs,
-/// "Extensibility"). 10⁸ keeps the shift below ~10⁻⁶ relative; larger values (10¹⁰ was tried)
-/// reach further into the κ → 0 band but Newton then stalls on the stretching force's
-/// round-off at n = 200 and on large s*.
+/// The continuation reaches the inextensible equilibrium with Newton at `min(k_s, 10⁶)`
+/// (augmented Lagrangian, module docs "Inextensibility") and relaxes it to the penalty rod of
+/// `k_s`, whose stability is tested; the penalty shifts s* by ≈ |n|/k_s relative, `|n| ∝ s²`
+/// the helix's internal force.
 pub const BOUNDARY_STRETCH: Real = 1e8;
 
+/// The stiffness of the κ → 0 guard ([`check_extensibility`]): a direction is refused where an
+/// edge strain `|n|/EXTENSIBILITY_GUARD_STRETCH` is not small against the chord shortening.
+pub const EXTENSIBILITY_GUARD_STRETCH: Real = 1e8;
+
 /// A direction is rejected (error, not a silently wrong s*) when at the continuum s* the axial
-/// strain `|n|/k_s` exceeds this fraction of the helix's chord shortening (module docs).
+/// strain `|n|/k_guard` exceeds this fraction of the helix's chord shortening (module docs).
 pub const MAX_STRAIN_TO_SHORTENING: Real = 0.1;
 
 /// Largest rotation of the frames per edge (radians, [`rotation_per_edge`]) at the continuum s*
-/// for which a DER boundary is computed ([`check_resolution`]); the discretization error there
-/// is tens of percent (55 % at 1.36 rad per edge).
-pub const MAX_ROTATION_PER_EDGE: Real = 1.5;
+/// for which a DER boundary is computed ([`check_resolution`]): there the discretization bound
+/// `DISCRETIZATION_COEFF·φ²` of `est_error` reaches ≈ 50 % of s*; beyond it the discrete rod
+/// is not in its asymptotic regime on the large-s* band (27 % off at 1.24 rad per edge).
+pub const MAX_ROTATION_PER_EDGE: Real = 0.9;
 
 /// The discretization part of a DER result's `est_error`: `DISCRETIZATION_COEFF·φ²·s*` with φ
-/// the [`rotation_per_edge`] at s*. Measured |s*_n/s*_∞ − 1| on (0.175, −0.366, −0.914):
-/// 0.55 at φ = 1.36, 0.064 at 0.67, 0.014 at 0.33 (≈ 0.13…0.3·φ²). Empirical, not rigorous:
-/// it failed to cover 8–13 of the 2,000 half-sphere directions per n (README, DER section).
-pub const DISCRETIZATION_COEFF: Real = 0.3;
+/// the [`rotation_per_edge`] at s*. Measured |s*_n/s*_∞ − 1|/φ² ≤ 0.26 outside the large-s*
+/// band and ≈ 0.5 on it once resolved ((0.0328, 0.4693, 0.8824): 0.48 at n = 800, 0.47 at
+/// n = 1600); empirical, so [`critical_s`] checks the result against the continuum (module
+/// docs).
+pub const DISCRETIZATION_COEFF: Real = 0.6;
 
 pub use super::continuum::CriticalS;
 
@@ -213,7 +262,14 @@ pub struct DerRay {
     evaluations: usize,
     newton_iterations: usize,
     correction: Vec<Real>,
+    /// Axial forces `k_s(ℓ_j/ē'_j − 1)` of the edges at the last converged point (the
+    /// augmented-Lagrangian multipliers, see [`DerRay::solve_inextensible`]).
+    axial: Vec<Real>,
     correction_s: Real,
+    /// The correction and s of the converged point before the last (secant predictor).
+    correction_prev: Vec<Real>,
+    correction_prev_s: Real,
+    has_correction_prev: bool,
     has_correction: bool,
     branch_ended: bool,
     /// |μ| at the first converged point of the ray and at the last one (fold diagnosis).
@@ -264,7 +320,11 @@ impl DerRay {
             evaluations: 0,
             newton_iterations: 0,
             correction: vec![0.0; 4 * n + 3],
+            axial: vec![0.0; n],
             correction_s: 1.0,
+            correction_prev: vec![0.0; 4 * n + 3],
+            correction_prev_s: 1.0,
+            has_correction_prev: false,
             has_correction: false,
             branch_ended: false,
             mu_first: Real::NAN,
@@ -320,15 +380,16 @@ impl DerRay {
         Ok(st)
     }
 
-    /// Equilibrium and stability at distance `s`.
+    /// Equilibrium and stability at distance `s` (module docs: the equilibrium of the
+    /// inextensible rod by an augmented Lagrangian, relaxed to the penalty rod of
+    /// `params.stretch`, which [`DerRay::rod`] and [`DerRay::state`] hold afterwards).
     ///
-    /// Newton starts from the sampled discrete helix plus the discrete correction (equilibrium
-    /// minus sampled helix) of the previous evaluation on this ray, which varies smoothly with
-    /// s; if that fails (or on the first call) it starts from the sampled helix with a
-    /// continuation in the stretching stiffness (Newton's basin shrinks like ē/√k_s: a
-    /// transverse move δ strains an edge by δ²/2ē²). The cold start may land on another branch
-    /// far from the first evaluation; [`DerRay::critical_s`] therefore never uses it beyond the
-    /// first, small s of a ray (it continues in s instead).
+    /// Newton starts from the sampled discrete helix plus the predicted discrete correction
+    /// (equilibrium minus sampled helix) of the previous evaluations on this ray, which varies
+    /// smoothly with s; if that fails (or on the first call) it starts from the sampled helix.
+    /// The cold start may land on another branch far from the first evaluation;
+    /// [`DerRay::critical_s`] therefore never uses it beyond the first, small s of a ray (it
+    /// continues in s instead).
     pub fn evaluate(&mut self, s: Real) -> Result<RayPoint> {
         if self.has_correction {
             match self.evaluate_predicted(s, PREDICTED_MAX_ITERS) {
@@ -348,8 +409,19 @@ impl DerRay {
         // force ∝ s²).
         let scale = (s / self.correction_s).powi(2);
         let mut st = init.clone();
-        for k in free.clone() {
-            st.q[k] += scale * self.correction[k];
+        let (s1, s0) = (self.correction_s, self.correction_prev_s);
+        if self.has_correction_prev && (s - s1).abs() <= 3.0 * (s1 - s0).abs() && s1 != s0 {
+            // Secant on u = correction/s² through the last two converged points.
+            let w = (s - s1) / (s1 - s0);
+            let (a1, a0) = (1.0 / (s1 * s1), 1.0 / (s0 * s0));
+            for k in free.clone() {
+                let (u1, u0) = (a1 * self.correction[k], a0 * self.correction_prev[k]);
+                st.q[k] += s * s * (u1 + w * (u1 - u0));
+            }
+        } else {
+            for k in free.clone() {
+                st.q[k] += scale * self.correction[k];
+            }
         }
         let not_converged = || Error::NotConverged {
             what: "DER Newton from the predicted start".into(),
@@ -359,12 +431,13 @@ impl DerRay {
         if !st.update_reference() {
             return Err(not_converged());
         }
-        self.rod.material.stretch = self.params.stretch;
+        self.rod.material.stretch = self.newton_stretch();
+        self.set_axial_forces(scale)?;
         let quick = NewtonParams {
             max_iters,
             ..self.newton
         };
-        match statics::solve(&self.rod, &mut st, free, &mut self.ws, &quick) {
+        match self.solve_inextensible(&mut st, &quick) {
             Ok(eq) => Ok(self.finish(s, &init, st, eq.negative, eq.iterations)),
             Err(Error::NotConverged { .. }) => {
                 self.evaluations += 1;
@@ -379,13 +452,19 @@ impl DerRay {
     fn evaluate_cold(&mut self, s: Real) -> Result<RayPoint> {
         let init = self.initial_state(s)?;
         let free = self.rod.free_range_clamped();
-        let target = self.params.stretch;
+        let target = self.newton_stretch();
         let mut iterations = 0;
         let mut st = init.clone();
         let mut ks = target.min(STRETCH_START);
+        self.rod.reset_stretch_rest_lengths();
         let eq = loop {
             self.rod.material.stretch = ks;
-            let r = statics::solve(&self.rod, &mut st, free.clone(), &mut self.ws, &self.newton);
+            let r = if ks >= target {
+                let newton = self.newton;
+                self.solve_inextensible(&mut st, &newton)
+            } else {
+                statics::solve(&self.rod, &mut st, free.clone(), &mut self.ws, &self.newton)
+            };
             let eq = match r {
                 Ok(eq) => eq,
                 Err(e) => {
@@ -403,6 +482,82 @@ impl DerRay {
         Ok(self.finish(s, &init, st, eq.negative, iterations))
     }
 
+    /// The penalty Newton works with: `min(params.stretch, NEWTON_STRETCH)`.
+    fn newton_stretch(&self) -> Real {
+        self.params.stretch.min(NEWTON_STRETCH)
+    }
+
+    /// Set the stretching rest lengths so that edge `j` carries the axial force
+    /// `scale·axial[j]` at its rest length `ē_j`: `ē'_j = ē_j/(1 + f_j/k_s)`.
+    fn set_axial_forces(&mut self, scale: Real) -> Result<()> {
+        let ks = self.rod.material.stretch;
+        for j in 0..self.params.n_edges {
+            let e = self.rod.rest_length(j);
+            self.rod
+                .set_stretch_rest_length(j, e / (1.0 + scale * self.axial[j] / ks))?;
+        }
+        Ok(())
+    }
+
+    /// Newton equilibrium of the *inextensible* discrete rod by an augmented Lagrangian: the
+    /// penalty `k_s` only conditions Newton, and after each solve the stretching rest lengths
+    /// are shifted (`ē'_j = ē_j/(1 + f_j/k_s)` with `f_j` the edge's axial force) until every
+    /// edge length is within [`AL_STRAIN_TOL`] of `ē_j`. The equilibrium does not depend on
+    /// `k_s`; each outer step is a Newton solve from the previous equilibrium (2–3 iterations).
+    fn solve_inextensible(
+        &mut self,
+        st: &mut RodState,
+        newton: &NewtonParams,
+    ) -> Result<statics::Equilibrium> {
+        let free = self.rod.free_range_clamped();
+        let n = self.params.n_edges;
+        let mut iterations = 0;
+        let mut worst = Real::NAN;
+        let mut previous = Real::INFINITY;
+        for _ in 0..AL_MAX_ITERS {
+            let eq = statics::solve(&self.rod, st, free.clone(), &mut self.ws, newton)?;
+            iterations += eq.iterations;
+            let ks = self.rod.material.stretch;
+            worst = 0.0;
+            for j in 0..n {
+                let l = st.edge(j).norm();
+                let e = self.rod.rest_length(j);
+                worst = worst.max((l / e - 1.0).abs());
+                self.axial[j] = ks * (l / self.rod.stretch_rest_length(j) - 1.0);
+            }
+            // Converged, or at the round-off floor of the strain (the Newton residual over k_s).
+            // After a rest-length update that Newton absorbs without an iteration the residual
+            // is at its tolerance: the remaining strain is below what the equilibrium resolves
+            // (a nearly straight rod, whose axial stiffness between the clamps is huge).
+            let absorbed = previous.is_finite() && eq.iterations == 0;
+            if worst <= AL_STRAIN_TOL.max(AL_FLOOR_FACTOR * eq.residual / ks) || absorbed {
+                // Relax to the penalty rod of `params.stretch` with its rest lengths: an axial
+                // strain O(f/k_s) away, well inside Newton's basin. The stability test and
+                // `self.rod`/`self.state` are that model's (the one of the DER dynamics).
+                self.rod.reset_stretch_rest_lengths();
+                self.rod.material.stretch = self.params.stretch;
+                let mut eq = statics::solve(&self.rod, st, free.clone(), &mut self.ws, newton)?;
+                eq.iterations += iterations;
+                return Ok(eq);
+            }
+            // The update contracts like K/(K + k_s), K the rod's axial stiffness between the
+            // clamps (large for a nearly straight rod): stiffen the penalty when it is slow.
+            if worst > AL_SLOW * previous {
+                self.rod.material.stretch = (ks * 10.0).min(AL_MAX_STRETCH);
+            }
+            previous = worst;
+            self.set_axial_forces(1.0)?;
+        }
+        Err(Error::NotConverged {
+            what: format!(
+                "DER inextensibility (augmented Lagrangian): edge strain {worst:.3e} after \
+                 {AL_MAX_ITERS} updates"
+            ),
+            iterations,
+            residual: worst,
+        })
+    }
+
     /// Record a converged evaluation (correction for the next prediction, work counters) and
     /// estimate the smallest-magnitude eigenvalue of its free Hessian.
     fn finish(
@@ -418,6 +573,9 @@ impl DerRay {
             .ws
             .ldlt
             .smallest_eigenvalue_warm(&self.ws.hess, free, 6, true);
+        std::mem::swap(&mut self.correction, &mut self.correction_prev);
+        self.correction_prev_s = self.correction_s;
+        self.has_correction_prev = self.has_correction;
         for (c, (a, b)) in self.correction.iter_mut().zip(st.q.iter().zip(&init.q)) {
             *c = a - b;
         }
@@ -465,19 +623,20 @@ impl DerRay {
             match self.evaluate_cold(s0) {
                 Ok(pt) if pt.negative > 0 || s0 == s => return Ok(classify(&pt)),
                 Ok(_) => {}
-                Err(Error::NotConverged { .. }) => return Ok((s, false, Real::NAN, false)),
                 Err(e) => return Err(e),
             }
         }
-        match self.evaluate_predicted(s, PREDICTED_MAX_ITERS) {
-            Ok(pt) => return Ok(classify(&pt)),
-            Err(Error::NotConverged { .. }) => {}
-            Err(e) => return Err(e),
-        }
+        // Continuation from the last converged point a towards s: steps of at most
+        // MAX_STEP_RATIO in s, halved on failure, grown by 1.5 on success.
         let mut a = self.correction_s;
-        let mut step = 0.25 * (s - a);
+        let mut ratio = MAX_STEP_RATIO;
         loop {
-            if step.abs() < 1e-6 * s {
+            let t = if s > a {
+                s.min(a * ratio)
+            } else {
+                s.max(a / ratio)
+            };
+            if (ratio - 1.0) < 1e-6 {
                 // Stalled: a full Newton solve (line search, 30 iterations) from the prediction.
                 match self.evaluate_predicted(s, self.newton.max_iters) {
                     Ok(pt) => return Ok(classify(&pt)),
@@ -500,20 +659,15 @@ impl DerRay {
                 }
                 return Ok((s, false, Real::NAN, false));
             }
-            let t = if (s - a).abs() <= step.abs() {
-                s
-            } else {
-                a + step
-            };
             match self.evaluate_predicted(t, PREDICTED_MAX_ITERS) {
                 Ok(pt) => {
                     if pt.negative > 0 || t == s {
                         return Ok(classify(&pt));
                     }
                     a = t;
-                    step *= 1.5;
+                    ratio = 1.0 + ((ratio - 1.0) * 1.5).min(MAX_STEP_RATIO - 1.0);
                 }
-                Err(Error::NotConverged { .. }) => step *= 0.5,
+                Err(Error::NotConverged { .. }) => ratio = 1.0 + 0.5 * (ratio - 1.0),
                 Err(e) => return Err(e),
             }
         }
@@ -638,12 +792,15 @@ impl DerRay {
 /// The DER-statics critical distance s* along `dir` (see the module docs).
 ///
 /// Errors: invalid parameters (n < 4, ν ∉ (−1, 0.5], tol_rel ≤ 0, non-finite values), an
-/// invalid direction (NaN, zero, κ < 0), or a Newton failure.
+/// invalid direction (NaN, zero, κ < 0), a direction too close to the κ = 0 plane or too
+/// coarsely resolved ([`check_extensibility`], [`check_resolution`]), a Newton failure, or a
+/// result that disagrees with the continuum beyond its `est_error`
+/// ([`check_against_continuum`]).
 pub fn critical_s(dir: &Direction, params: &DerBoundaryParams) -> Result<CriticalS> {
     let mut ray = DerRay::new(dir, params)?;
     let c = super::continuum::critical_s(&ray.dir, 1e-6)?;
     if c.s_star.is_finite() {
-        check_extensibility(&ray.dir, c.s_star, params.stretch)?;
+        check_extensibility(&ray.dir, c.s_star)?;
         check_resolution(&ray.dir, c.s_star, params.n_edges, ray.c)?;
     }
     let mut r = if params.continuum_seed && c.s_star.is_finite() && c.s_star < params.s_max {
@@ -652,10 +809,52 @@ pub fn critical_s(dir: &Direction, params: &DerBoundaryParams) -> Result<Critica
         ray.critical_s()?
     };
     if r.s_star.is_finite() {
-        let per_edge = rotation_per_edge(&ray.dir, r.s_star, params.n_edges, ray.c);
-        r.est_error += DISCRETIZATION_COEFF * per_edge * per_edge * r.s_star;
+        // The resolution at the continuum s* (the DER s* itself may be far off where the rod is
+        // unresolved, which the check below catches).
+        let s_ref = if c.s_star.is_finite() {
+            c.s_star
+        } else {
+            r.s_star
+        };
+        let per_edge = rotation_per_edge(&ray.dir, s_ref, params.n_edges, ray.c);
+        r.est_error += DISCRETIZATION_COEFF * per_edge * per_edge * s_ref;
     }
+    check_against_continuum(&ray.dir, &r, &c, params)?;
     Ok(r)
+}
+
+/// The consistency check of a DER result against the continuum s* (module docs, "What
+/// `est_error` covers"): the DER s* must lie within `est_error` (plus the continuum's own
+/// error) of the continuum, and both must agree on whether the ray loses stability below
+/// `s_max`; otherwise the DER result is an error naming both values.
+pub fn check_against_continuum(
+    dir: &Direction,
+    der: &CriticalS,
+    continuum: &CriticalS,
+    params: &DerBoundaryParams,
+) -> Result<()> {
+    let (d, c) = (der.s_star, continuum.s_star);
+    let c_unstable = c.is_finite() && c < params.s_max;
+    let consistent = match (c_unstable, d.is_finite()) {
+        (true, true) => (d - c).abs() <= der.est_error + continuum.est_error,
+        (false, false) => true,
+        // Stable to s_max by one method only: consistent only past s_max on both.
+        (true, false) => false,
+        (false, true) => c.is_finite() && d + der.est_error >= params.s_max,
+    };
+    if consistent {
+        return Ok(());
+    }
+    Err(Error::NotConverged {
+        what: format!(
+            "DER statics on direction ({}, {}, {}) with n_edges = {}: s* = {d} ± {:.3e} \
+             disagrees with the continuum s* = {c} beyond its error estimate (the discrete rod \
+             does not resolve this direction; use a larger n_edges or the continuum method)",
+            dir.kappa, dir.tau, dir.omega, params.n_edges, der.est_error
+        ),
+        iterations: 0,
+        residual: (d - c).abs(),
+    })
 }
 
 /// The rotation of the frames per edge, `s·√(κ̂² + τ̂² + (ω̂/c)²)/(n − 1)` radians (bending,
@@ -687,24 +886,26 @@ pub fn check_resolution(dir: &Direction, s_star: Real, n_edges: usize, c: Real) 
 }
 
 /// The extensibility guard (module docs): at the continuum s* the helix's internal force
-/// `|n| = |ω − τ|·√(κ² + τ²)` strains the penalized rod by `|n|/k_s`; unless that is at most
-/// [`MAX_STRAIN_TO_SHORTENING`] of the chord shortening `δ = 1 − |r(1)|`, the DER rod does not
-/// model the inextensible one (near the κ = 0 plane it stays straight and compressed instead of
-/// buckling) and the direction is an error naming both numbers.
-pub fn check_extensibility(dir: &Direction, s_star: Real, stretch: Real) -> Result<()> {
+/// `|n| = |ω − τ|·√(κ² + τ²)` would strain a rod of stiffness
+/// [`EXTENSIBILITY_GUARD_STRETCH`] by `|n|/k_guard`; unless that is at most
+/// [`MAX_STRAIN_TO_SHORTENING`] of the chord shortening `δ = 1 − |r(1)|`, the discrete
+/// equilibrium cannot resolve the compression of the nearly straight rod, and the direction is
+/// an error naming both numbers.
+pub fn check_extensibility(dir: &Direction, s_star: Real) -> Result<()> {
     let [k, t, w] = dir.at(s_star);
     let force = (w - t).abs() * (k * k + t * t).sqrt();
     let shortening = 1.0 - Helix::new(k, t, w)?.position(1.0).norm();
-    let strain = force / stretch;
+    let strain = force / EXTENSIBILITY_GUARD_STRETCH;
     if strain > MAX_STRAIN_TO_SHORTENING * shortening {
         return Err(Error::invalid(
             "direction",
             format!("({}, {}, {})", dir.kappa, dir.tau, dir.omega),
             format!(
-                "too close to the kappa = 0 plane for DER statics with stretch {stretch:e}: at the \
-                 continuum s* = {s_star} the axial strain |n|/k_s = {strain:.3e} is not small \
-                 against the helix's chord shortening {shortening:.3e} (the penalized rod would \
-                 stay straight and compressed); use the continuum method or a larger stretch"
+                "too close to the kappa = 0 plane for DER statics: at the continuum s* = \
+                 {s_star} the helix's chord shortening {shortening:.3e} is below what the \
+                 discrete equilibrium resolves (axial force {force:.3e} over the guard \
+                 stretch {EXTENSIBILITY_GUARD_STRETCH:e} = {strain:.3e} strain); use the \
+                 continuum method"
             ),
         ));
     }

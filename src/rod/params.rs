@@ -83,6 +83,7 @@ pub use crate::math::twist_ratio;
 pub struct Rod {
     n: usize,
     rest: Vec<Real>,
+    stretch_rest: Vec<Real>,
     voronoi: Vec<Real>,
     /// The stiffnesses.
     pub material: Material,
@@ -115,6 +116,7 @@ impl Rod {
         }
         Ok(Rod {
             n,
+            stretch_rest: rest_lengths.clone(),
             rest: rest_lengths,
             voronoi,
             material,
@@ -134,6 +136,30 @@ impl Rod {
     /// Rest length `ē_j` of edge `j`.
     pub fn rest_length(&self, j: usize) -> Real {
         self.rest[j]
+    }
+
+    /// The length at which edge `j` carries no axial force in `E_s` (initially `ē_j`).
+    ///
+    /// It differs from [`Rod::rest_length`] only when set by [`Rod::set_stretch_rest_length`]:
+    /// an augmented-Lagrangian solve (the DER boundary) shifts it so that the penalty force
+    /// `k_s(ℓ/ē'_j − 1)` is carried at `ℓ = ē_j`, making the equilibrium inextensible without
+    /// a stiff `k_s`. The Voronoi lengths (bending and twisting weights) and the dynamics'
+    /// masses keep `ē_j`.
+    pub fn stretch_rest_length(&self, j: usize) -> Real {
+        self.stretch_rest[j]
+    }
+
+    /// Set the stretching rest length of edge `j` (see [`Rod::stretch_rest_length`]); `len`
+    /// must be finite and > 0.
+    pub fn set_stretch_rest_length(&mut self, j: usize, len: Real) -> Result<()> {
+        require_positive("stretch_rest_length", len)?;
+        self.stretch_rest[j] = len;
+        Ok(())
+    }
+
+    /// Reset every stretching rest length to the rest length `ē_j`.
+    pub fn reset_stretch_rest_lengths(&mut self) {
+        self.stretch_rest.copy_from_slice(&self.rest);
     }
 
     /// Voronoi length `l̄_i` of interior node `i` (0 at the end nodes).

@@ -51,7 +51,7 @@ pub fn energy(rod: &Rod, s: &RodState) -> Real {
     let n = rod.n_edges();
     let mut e = 0.0;
     for j in 0..n {
-        e += stretch::edge_energy(&s.edge(j), rod.rest_length(j), mat.stretch);
+        e += stretch::edge_energy(&s.edge(j), rod.stretch_rest_length(j), mat.stretch);
     }
     for i in 1..n {
         let l = rod.voronoi_length(i);
@@ -67,7 +67,7 @@ pub fn energy_parts(rod: &Rod, s: &RodState) -> (Real, Real, Real) {
     let n = rod.n_edges();
     let (mut es, mut eb, mut et) = (0.0, 0.0, 0.0);
     for j in 0..n {
-        es += stretch::edge_energy(&s.edge(j), rod.rest_length(j), mat.stretch);
+        es += stretch::edge_energy(&s.edge(j), rod.stretch_rest_length(j), mat.stretch);
     }
     for i in 1..n {
         let l = rod.voronoi_length(i);
@@ -152,7 +152,7 @@ fn assemble(
     let mut total = 0.0;
     // Stretching: 7-DOF stencil [x_j, θ_j, x_{j+1}] at offset 4j.
     for j in 0..n {
-        let (e, ge, he) = stretch::edge(&s.edge(j), rod.rest_length(j), mat.stretch);
+        let (e, ge, he) = stretch::edge(&s.edge(j), rod.stretch_rest_length(j), mat.stretch);
         total += e;
         let o = 4 * j;
         if let Some(g) = g.as_deref_mut() {
