@@ -1,7 +1,7 @@
 //! The bifurcation type over a set of directions (the demo's map, examples), and the seed's
 //! labelled directions.
 //!
-//! [`survey`] runs [`classify`](super::classify) on every direction, in parallel over
+//! [`survey`] runs [`classify`] on every direction, in parallel over
 //! directions (rayon, the outermost level), results in input order (identical for any
 //! thread count). For a resumable, checkpointed sweep use `helixreach bifurcation` (the sweep
 //! driver); this is the in-memory form for figures and reports.
