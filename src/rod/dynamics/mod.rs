@@ -18,12 +18,12 @@
 //! use helixreach::boundary::der::{critical_s, DerBoundaryParams};
 //! use helixreach::directions::Direction;
 //! use helixreach::rod::dynamics::{simulate_ray, SimParams};
-//! // A fast, coarse run along [1,1,1]/√3 (n = 10, v = 0.5/s): the rod loses the helix a
+//! // A fast, coarse run along [1,1,1]/√3 (n = 16, v = 0.5/s): the rod loses the helix a
 //! // little after the DER statics s* of the same n, delayed by inertia.
 //! let dir = Direction::new(1.0, 1.0, 1.0).unwrap();
-//! let p = SimParams { n_edges: 10, dt: 0.02, speed: 0.5, record_ds: 0.02, ..Default::default() };
+//! let p = SimParams { n_edges: 16, dt: 0.02, speed: 0.5, record_ds: 0.02, ..Default::default() };
 //! let sim = simulate_ray(&dir, &p, &mut |_| {}).unwrap();
-//! let stat = critical_s(&dir, &DerBoundaryParams { n_edges: 10, tol_rel: 1e-4, ..Default::default() })
+//! let stat = critical_s(&dir, &DerBoundaryParams { n_edges: 16, tol_rel: 1e-4, ..Default::default() })
 //!     .unwrap()
 //!     .s_star;
 //! let delay = sim.s_dyn() / stat - 1.0;
