@@ -47,6 +47,9 @@ pub const MAX_WAYPOINTS: usize = 1_000_000;
 pub const MIN_DISABLED_SAMPLES: usize = 10_000;
 /// Most random configurations for the never-colliding pairs.
 pub const MAX_DISABLED_SAMPLES: usize = 10_000_000;
+/// Most time steps of one DER dynamics run (load, hold and unload together): at the seed's
+/// n = 100 a step costs ≈ 0.1–1 ms, so this is minutes to hours of CPU, not days.
+pub const MAX_SIM_STEPS: usize = 10_000_000;
 /// Most rendered frames.
 pub const MAX_FRAMES: usize = 10_000;
 /// Most shards of a sweep.

@@ -430,6 +430,21 @@ fn bad_input_is_a_clear_error() {
     let cases: Vec<(SimParams, &str)> = vec![
         (SimParams { dt: 0.0, ..base }, "dt"),
         (SimParams { dt: -1.0, ..base }, "dt"),
+        // A tiny dt: more than MAX_SIM_STEPS steps is refused before any step runs.
+        (SimParams { dt: 1e-12, ..base }, "dt"),
+        // Unloading doubles the steps and adds the hold: s_max/(v·dt) under the limit alone,
+        // over it with the unload (the old bound, 1e9 loading steps, ignored the unload).
+        (
+            SimParams {
+                dt: 1.5 * base.s_max / (base.speed * helixreach::limits::MAX_SIM_STEPS as Real),
+                unload: Some(helixreach::rod::dynamics::Unload {
+                    s_turn: None,
+                    hold: 0.0,
+                }),
+                ..base
+            },
+            "dt",
+        ),
         (SimParams { speed: 0.0, ..base }, "speed"),
         (
             SimParams {

@@ -224,12 +224,22 @@ impl SimParams {
                 }
             }
         }
-        let steps = self.s_max / (self.speed * self.dt);
-        if steps > 1e9 {
+        // Loading to s_max, and with unloading back to 0 plus the hold: an upper bound on the
+        // steps of the run.
+        let load = self.s_max / (self.speed * self.dt);
+        let steps = match &self.unload {
+            Some(u) => 2.0 * load + u.hold / self.dt,
+            None => load,
+        };
+        let max = crate::limits::MAX_SIM_STEPS;
+        if steps > max as Real {
             return Err(Error::invalid(
                 "dt",
                 self.dt,
-                format!("s_max/(speed·dt) = {steps:.3e} steps is too many"),
+                format!(
+                    "the run would take up to {steps:.3e} time steps (s_max/(speed·dt), doubled \
+                     and plus hold/dt when unloading); at most {max} (raise dt or speed)"
+                ),
             ));
         }
         Ok(())
