@@ -25,7 +25,6 @@ use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
 use helixreach::planning::pose_path::PoseMap;
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::planning::self_motion::{self, Held, WalkSettings, Q};
-use helixreach::robot::collision::RodGeometry;
 use helixreach::robot::{CollisionModel, IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -168,13 +167,7 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
         let q = sol.joints().to_vec();
         worst_corr = worst_corr.max(max_diff(&q, traj.row(i)));
         let nodes = rod_nodes(&rig, kto);
-        let rod = RodGeometry {
-            nodes: &nodes,
-            radius: rig.rod.radius + rig.planner.rod_clearance,
-            ignore_near_tool: rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        };
+        let rod = rig.rod_geometry(&nodes);
         if let Some(c) = cm.check(&q, &mut ws, Some(&rod)) {
             first_bad.get_or_insert(format!(
                 "row {i} s={s:.3}: {}|{}",
@@ -228,13 +221,7 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
             dof,
         };
         let nodes = rod_nodes(&rig, kto);
-        let rod = RodGeometry {
-            nodes: &nodes,
-            radius: rig.rod.radius + rig.planner.rod_clearance,
-            ignore_near_tool: rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        };
+        let rod = rig.rod_geometry(&nodes);
         let mut qa: Q = [0.0; MAX_DOF];
         qa[..dof].copy_from_slice(a.joints());
         let mut ws2 = cm.workspace();
@@ -300,13 +287,7 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
             dof,
         };
         let nodes = rod_nodes(&rig, [0.0; 3]);
-        let rod = RodGeometry {
-            nodes: &nodes,
-            radius: rig.rod.radius + rig.planner.rod_clearance,
-            ignore_near_tool: rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        };
+        let rod = rig.rod_geometry(&nodes);
         let mut q0: Q = [0.0; MAX_DOF];
         q0[..dof].copy_from_slice(w0);
         let mut ws2 = cm.workspace();
@@ -393,13 +374,7 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
             dof,
         };
         let nodes = rod_nodes(&rig, last.waypoint.kto);
-        let rod = RodGeometry {
-            nodes: &nodes,
-            radius: rig.rod.radius + rig.planner.rod_clearance,
-            ignore_near_tool: rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        };
+        let rod = rig.rod_geometry(&nodes);
         let settings = WalkSettings {
             max_step: rig.planner.self_motion_step,
             min_step: 1e-4,

@@ -17,7 +17,6 @@ use helixreach::helix::{discrete, Helix};
 use helixreach::math::{rot_z, Mat3, Real, Vec3};
 use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
-use helixreach::robot::collision::RodGeometry;
 use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -206,13 +205,7 @@ fn witness(planner: &Planner, r: &SeedRun) -> Witness {
         };
         let q = sol.joints().to_vec();
         let nodes = rod_at(s);
-        let rod = RodGeometry {
-            nodes: &nodes,
-            radius: rig.rod.radius + rig.planner.rod_clearance,
-            ignore_near_tool: rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        };
+        let rod = rig.rod_geometry(&nodes);
         if !inside(&q) {
             return invalid("joint limit".into());
         }
@@ -256,13 +249,7 @@ fn witness(planner: &Planner, r: &SeedRun) -> Witness {
             dof,
         };
         let nodes = rod_at(s1);
-        let rod = RodGeometry {
-            nodes: &nodes,
-            radius: rig.rod.radius + rig.planner.rod_clearance,
-            ignore_near_tool: rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        };
+        let rod = rig.rod_geometry(&nodes);
         let mut qa: Q = [0.0; MAX_DOF];
         qa[..dof].copy_from_slice(a.joints());
         let mut stops = Vec::new();
@@ -525,13 +512,7 @@ fn reference_reaches(planner: &Planner, d: &Direction, n_wp: usize, grid: Real) 
             .into_iter()
             .map(|x| oc + rc * (x * l))
             .collect();
-        let rod = RodGeometry {
-            nodes: &nodes,
-            radius: rig.rod.radius + rig.planner.rod_clearance,
-            ignore_near_tool: rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        };
+        let rod = rig.rod_geometry(&nodes);
         let mut valid = |q: &[Real]| cm.check(q, &mut ws, Some(&rod)).is_none();
         // Fresh IK, seeded also with the reachable set (so its continuations are not missed).
         let seeds: Vec<&[Real]> = reach.iter().map(|q| q.as_slice()).collect();

@@ -43,7 +43,7 @@ use crate::helix::Helix;
 use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
 use crate::planning::pose_path::PoseMap;
 use crate::planning::rig::{iso_from, tool_from_director, Rig};
-use crate::robot::collision::{BodyRef, Contact, RodGeometry};
+use crate::robot::collision::{BodyRef, Contact};
 use crate::robot::{CollisionModel, CollisionWorkspace, Frame, RobotModel};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -706,13 +706,7 @@ pub fn check_trajectory(
             for x in rod.iter_mut() {
                 *x = oc + rc * (*x * rig.rod.length);
             }
-            rod_geom = Some(RodGeometry {
-                nodes: &rod,
-                radius: rig.rod.radius + rig.planner.rod_clearance,
-                ignore_near_tool: rig.planner.rod_end_exclusion,
-                ignore_near_clamp: 0.0,
-                against_scene: false,
-            });
+            rod_geom = Some(rig.rod_geometry(&rod));
         }
         // Collisions: the first contact of each kind.
         cm.update(q, &mut ws);

@@ -410,13 +410,7 @@ impl Planner {
     }
 
     fn rod_geometry<'a>(&self, nodes: &'a [Vec3]) -> RodGeometry<'a> {
-        RodGeometry {
-            nodes,
-            radius: self.rig.rod.radius + self.rig.planner.rod_clearance,
-            ignore_near_tool: self.rig.planner.rod_end_exclusion,
-            ignore_near_clamp: 0.0,
-            against_scene: false,
-        }
+        self.rig.rod_geometry(nodes)
     }
 
     fn check_config(&self, q: &[Real], sc: &mut Scratch) -> std::result::Result<(), BlockCause> {

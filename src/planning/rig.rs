@@ -33,6 +33,7 @@
 
 use crate::error::{Error, Result};
 use crate::math::{Iso3, Mat3, Real, Vec3, DEG};
+use crate::robot::collision::RodGeometry;
 use crate::robot::SceneObstacle;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -334,6 +335,19 @@ impl Rig {
     /// The clamp frame's rotation `[d1 d2 d3]` in the base frame.
     pub fn clamp_rotation(&self) -> Mat3 {
         self.clamp.rotation.to_rotation_matrix().into_inner()
+    }
+
+    /// The rod as the planner checks it for collision: capsules through `nodes` (base frame)
+    /// of radius r + `rod_clearance`, the last `rod_end_exclusion` metres at the tool ignored,
+    /// against the robot only (the scene is checked against the links).
+    pub fn rod_geometry<'a>(&self, nodes: &'a [Vec3]) -> RodGeometry<'a> {
+        RodGeometry {
+            nodes,
+            radius: self.rod.radius + self.planner.rod_clearance,
+            ignore_near_tool: self.planner.rod_end_exclusion,
+            ignore_near_clamp: 0.0,
+            against_scene: false,
+        }
     }
 
     /// Pose of the tool frame for the straight rod: `clamp + L·d3`, rotation `R_clamp·P`.
