@@ -16,18 +16,9 @@ use helixreach::directions::fibonacci;
 use helixreach::layout::{run, LayoutOptions, RunControl};
 use helixreach::planning::rig::Rig;
 
-extern "C" {
-    fn clock_gettime(clk_id: i32, tp: *mut [i64; 2]) -> i32;
-}
-
 /// Process CPU time (s) of all threads.
 fn process_cpu_s() -> f64 {
-    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
-    let mut ts = [0i64; 2];
-    // SAFETY: `ts` has the layout of `struct timespec` on 64-bit Linux and outlives the call.
-    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime failed");
-    ts[0] as f64 + ts[1] as f64 * 1e-9
+    helixreach::cpu_time::process_cpu_seconds().expect("process CPU clock")
 }
 
 fn main() {

@@ -24,28 +24,44 @@ pub fn thread_cpu_seconds() -> Result<f64> {
 /// clock (the benches' criterion measurement uses it too).
 pub fn thread_cpu_nanos() -> Result<u64> {
     #[cfg(unix)]
-    {
-        let mut ts = libc::timespec {
-            tv_sec: 0,
-            tv_nsec: 0,
-        };
-        // SAFETY: `ts` is a valid, writable timespec for the duration of the call.
-        let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-        if rc == 0 {
-            return Ok(ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64);
-        }
-        Err(Error::invalid(
-            "clock",
-            "CLOCK_THREAD_CPUTIME_ID",
-            std::io::Error::last_os_error().to_string(),
-        ))
-    }
+    return read_clock(libc::CLOCK_THREAD_CPUTIME_ID, "CLOCK_THREAD_CPUTIME_ID");
     #[cfg(not(unix))]
-    {
-        Err(Error::invalid(
-            "clock",
-            "thread CPU time",
-            "not available on this platform",
-        ))
+    Err(Error::invalid(
+        "clock",
+        "thread CPU time",
+        "not available on this platform",
+    ))
+}
+
+/// CPU time of the whole process (all threads) in seconds since an arbitrary origin: for a
+/// parallel run, CPU ÷ cores is the wall time idle cores would need.
+pub fn process_cpu_seconds() -> Result<f64> {
+    #[cfg(unix)]
+    return read_clock(libc::CLOCK_PROCESS_CPUTIME_ID, "CLOCK_PROCESS_CPUTIME_ID")
+        .map(|ns| ns as f64 * 1e-9);
+    #[cfg(not(unix))]
+    Err(Error::invalid(
+        "clock",
+        "process CPU time",
+        "not available on this platform",
+    ))
+}
+
+/// One reading of a POSIX CPU clock, in nanoseconds.
+#[cfg(unix)]
+fn read_clock(clock: libc::clockid_t, name: &str) -> Result<u64> {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec for the duration of the call.
+    let rc = unsafe { libc::clock_gettime(clock, &mut ts) };
+    if rc == 0 {
+        return Ok(ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64);
     }
+    Err(Error::invalid(
+        "clock",
+        name,
+        std::io::Error::last_os_error().to_string(),
+    ))
 }
