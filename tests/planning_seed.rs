@@ -17,49 +17,13 @@ use helixreach::helix::{discrete, Helix};
 use helixreach::math::{rot_z, Mat3, Real, Vec3};
 use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
+use helixreach::planning::witness::{self, read_seed_runs, SeedRun, Witness, WitnessEnd};
 use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
-/// One run of the seed: direction and its clamp position.
-struct SeedRun {
-    file: String,
-    dir: Direction,
-    clamp: [Real; 3],
-}
-
 fn seed_runs() -> Vec<SeedRun> {
-    let path = seed_dir().join("trajectories.csv");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .unwrap_or_else(|| panic!("{}: no column {name}", path.display()))
-    };
-    let c = [
-        col("dir_kappa"),
-        col("dir_tau"),
-        col("dir_omega"),
-        col("clamp_x"),
-        col("clamp_y"),
-        col("clamp_z"),
-    ];
-    let file = col("file");
-    lines
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            let v: Vec<Real> = c.iter().map(|&i| f[i].parse().unwrap()).collect();
-            SeedRun {
-                file: f[file].to_string(),
-                dir: Direction::new(v[0], v[1], v[2]).unwrap(),
-                clamp: [v[3], v[4], v[5]],
-            }
-        })
-        .collect()
+    read_seed_runs(&seed_dir().join("trajectories.csv")).unwrap()
 }
 
 fn s_star(d: &Direction) -> Real {
@@ -94,199 +58,17 @@ fn key(c: [Real; 3]) -> [i64; 3] {
     c.map(|x| (x * 1e6).round() as i64)
 }
 
-/// How far the seed's executed run of a ray proves an undisturbed path exists on our model
-/// (see [`witness`]): the run is a witness up to `extent` (in s on our ray), and `end` says why
-/// it stops being one there.
-#[derive(Debug, Clone, PartialEq)]
-struct Witness {
-    extent: Real,
-    end: WitnessEnd,
-}
-
-#[derive(Debug, Clone, PartialEq)]
-enum WitnessEnd {
-    /// It reaches our target s_end: every step is a ladder edge or a self-motion walk at a held
-    /// pose, so the planner must find the ray testable.
-    Target,
-    /// The run's farthest s (projected on our ray) is short of our target s_end.
-    Short,
-    /// A row, corrected onto our pose, is invalid in our model (limits or collision).
-    Invalid(String),
-    /// A jump between two rows joins two configurations that no self-motion walk at the held pose
-    /// joins (different connected valid components): the seed disturbed the rod there.
-    Disjoint { step: Real, walks_stop: String },
-}
-
-/// Classify the seed's run `r` on `planner` (its rig with the run's clamp, margin 0), roll
-/// `fixed`, azimuth 0:
-/// 1. every row's s by projection onto our ray (`check`, continuum end frame); the loading rows
-///    up to our target s_end (or the run's farthest row);
-/// 2. each row corrected onto our pose at its s by one IK track from the seed's joints (the seed
-///    held a 100-edge discrete end frame, ≈ 3 mm / 2 mrad from ours), the first row onto the
-///    straight rod; each corrected row checked for limits and self / scene / rod collision;
-/// 3. each step over `max_joint_step` between corrected rows: the earlier row tracked onto the
-///    later row's pose, then self-motion walks at that held pose (both ways, resolution
-///    `self_motion_step`, every sample valid and inside the limits) must pass within half a
-///    joint step of the later row — else the jump is [`WitnessEnd::Disjoint`].
-///
-/// The witness extent is the s of the last row before the first invalid row or disjoint jump,
-/// or the run's farthest s (capped at s_end).
+/// The seed's run `r` as a witness on `planner` (its rig with the run's clamp, margin 0), roll
+/// `fixed`, azimuth 0 ([`helixreach::planning::witness`]: projection onto our ray, correction
+/// onto our pose, jumps classified by self-motion walks at the held pose).
 fn witness(planner: &Planner, r: &SeedRun) -> Witness {
-    use helixreach::planning::check::{CheckOptions, Checker};
-    use helixreach::planning::pose_path::PoseMap;
-    use helixreach::planning::self_motion::{walk, Held, WalkSettings, Q};
-    let rig = planner.rig();
-    let model = planner.model();
-    let dof = model.dof();
-    let step = rig.planner.max_joint_step;
-    let checker = Checker::new(rig.clone()).unwrap();
-    let traj = checker
-        .read(&seed_dir().join("trajectories").join(&r.file))
-        .unwrap();
-    let rep = checker
-        .check(
-            &traj,
-            &CheckOptions {
-                direction: Some(r.dir),
-                ..CheckOptions::default()
-            },
-        )
-        .unwrap();
-    let s_rows: Vec<Real> = rep.row_checks.iter().map(|c| c.s.unwrap()).collect();
-    let s_end = s_star(&r.dir) * (1.0 + rig.planner.margin);
-    let i_far = (0..s_rows.len())
-        .max_by(|&a, &b| s_rows[a].total_cmp(&s_rows[b]))
-        .unwrap();
-    let far = Witness {
-        extent: s_rows[i_far].min(s_end),
-        end: if s_rows[i_far] < s_end {
-            WitnessEnd::Short
-        } else {
-            WitnessEnd::Target
-        },
-    };
-    let map = PoseMap::new(rig, 0.0);
-    let solver = IkSolver::new(
-        model,
-        IkParams {
-            redundancy_joint: None,
-            ..IkParams::default()
-        },
+    witness::witness(
+        planner,
+        &seed_dir().join("trajectories").join(&r.file),
+        &r.dir,
     )
-    .unwrap();
-    let mut cm = CollisionModel::for_model(model).unwrap();
-    cm.set_obstacles(&rig.obstacles).unwrap();
-    let mut ws = cm.workspace();
-    let (lo, hi) = (model.lower(), model.upper());
-    let inside = |q: &[Real]| (0..dof).all(|j| q[j] >= lo[j] && q[j] <= hi[j]);
-    let dist = |a: &[Real], b: &[Real]| (0..dof).map(|j| (a[j] - b[j]).abs()).fold(0.0, Real::max);
-    let rod_at = |s: Real| -> Vec<Vec3> {
-        let h = Helix::new(s * r.dir.kappa, s * r.dir.tau, s * r.dir.omega).unwrap();
-        let rc = rig.clamp_rotation();
-        let oc = rig.clamp.translation.vector;
-        discrete::nodes(&h, rig.planner.rod_capsules)
-            .into_iter()
-            .map(|x| oc + rc * (x * rig.rod.length))
-            .collect()
-    };
-    // Corrected rows up to s_end.
-    let mut rows: Vec<(Real, Vec<Real>)> = Vec::new();
-    for i in 0..=i_far {
-        let s = if i == 0 { 0.0 } else { s_rows[i].min(s_end) };
-        let kto = [s * r.dir.kappa, s * r.dir.tau, s * r.dir.omega];
-        let tip = planner.tip_target(&map.end(kto).unwrap().0);
-        let before = rows.last().map_or(0.0, |r: &(Real, Vec<Real>)| r.0);
-        let invalid = |why: String| Witness {
-            extent: before,
-            end: WitnessEnd::Invalid(format!("s = {s:.3}: {why}")),
-        };
-        let Some(sol) = solver.track(&IkTarget::Pose(tip), traj.row(i), None) else {
-            return invalid("the IK correction does not converge".into());
-        };
-        let q = sol.joints().to_vec();
-        let nodes = rod_at(s);
-        let rod = rig.rod_geometry(&nodes);
-        if !inside(&q) {
-            return invalid("joint limit".into());
-        }
-        if let Some(c) = cm.check(&q, &mut ws, Some(&rod)) {
-            return invalid(format!("{}|{}", cm.name(c.a), cm.name(c.b)));
-        }
-        rows.push((s, q));
-        if s >= s_end {
-            break;
-        }
-    }
-    // Jumps.
-    let track = IkSolver::new(model, IkParams::default()).unwrap();
-    let settings = WalkSettings {
-        max_step: rig.planner.self_motion_step,
-        min_step: 1e-4,
-        joint_step_bound: step,
-        max_samples: 4000,
-    };
-    for w in rows.windows(2) {
-        let d = dist(&w[0].1, &w[1].1);
-        if d <= step {
-            continue;
-        }
-        let (s1, q1) = (w[1].0, &w[1].1);
-        let tip = model.chain().tool_pose(q1);
-        let disjoint = |walks_stop: String| Witness {
-            extent: w[0].0,
-            end: WitnessEnd::Disjoint {
-                step: d,
-                walks_stop: format!("s = {s1:.3}: {walks_stop}"),
-            },
-        };
-        let Some(a) = solver.track(&IkTarget::Pose(tip), &w[0].1, None) else {
-            return disjoint("no track onto the held pose".into());
-        };
-        let held = Held {
-            chain: model.chain(),
-            solver: &track,
-            tip,
-            dof,
-        };
-        let nodes = rod_at(s1);
-        let rod = rig.rod_geometry(&nodes);
-        let mut qa: Q = [0.0; MAX_DOF];
-        qa[..dof].copy_from_slice(a.joints());
-        let mut stops = Vec::new();
-        let mut joined = dist(&qa[..dof], q1) <= 0.5 * step;
-        for sign in [1.0, -1.0] {
-            if joined {
-                break;
-            }
-            let mut stop = String::from("manifold end");
-            let (_, hit) = walk(
-                &held,
-                &qa,
-                sign,
-                &settings,
-                |_, b| {
-                    if !inside(&b[..dof]) {
-                        stop = "joint limit".into();
-                        return false;
-                    }
-                    match cm.check(&b[..dof], &mut ws, Some(&rod)) {
-                        None => true,
-                        Some(c) => {
-                            stop = format!("{}|{}", cm.name(c.a), cm.name(c.b));
-                            false
-                        }
-                    }
-                },
-                |q| dist(&q[..dof], q1) <= 0.5 * step,
-            );
-            joined = hit;
-            stops.push(stop);
-        }
-        if !joined {
-            return disjoint(stops.join(" / "));
-        }
-    }
-    far
+    .unwrap()
+    .verdict
 }
 
 /// The seed's 58 directions, each with its own clamp, margin 0, roll `fixed`: the real robot

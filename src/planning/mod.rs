@@ -9,6 +9,7 @@
 //! | [`self_motion`] | walking the self-motion manifold of a held pose; resampling within 1e-6 m / rad |
 //! | [`trajectory`] | time parametrization and the CSV / JSON writers |
 //! | [`check`] | validation of an existing joint trajectory: limits, collisions, steps, pose error |
+//! | [`witness`] | an executed run as a witness of a feasible ray: projection, correction, jump classification |
 //!
 //! The whole pipeline of one ray:
 //!
@@ -32,3 +33,4 @@ pub mod rig;
 pub mod rig_write;
 pub mod self_motion;
 pub mod trajectory;
+pub mod witness;
