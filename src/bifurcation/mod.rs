@@ -5,6 +5,7 @@
 //! |---|---|
 //! | [`reduction`] | the critical mode and the Koiter coefficients of the DER energy at s* |
 //! | [`unloading`] | the post-snap equilibrium followed back down in s (static `s_return`) |
+//! | [`contact`] | self-contact and self-crossing of the rod along a motion (the DER has no contact) |
 //! | [`survey`] | the type over a set of directions; the seed's 42 labelled directions |
 //!
 //! # The reduced equation
@@ -56,6 +57,7 @@
 //! # Ok::<(), helixreach::Error>(())
 //! ```
 
+pub mod contact;
 pub mod reduction;
 pub mod survey;
 pub mod unloading;
@@ -118,10 +120,14 @@ pub struct BifurcationParams {
     pub statics_return: bool,
     /// Relative resolution of `s_return`.
     pub return_tol_rel: Real,
+    /// The rod's diameter (units of L) below which two edges of the followed far branch count
+    /// as touching (see [`contact`]).
+    pub contact_diameter: Real,
 }
 
 impl Default for BifurcationParams {
-    /// DER n = 100, `tol_rel = 1e-7`, static return on, resolved to 1e-3.
+    /// DER n = 100, `tol_rel = 1e-7`, static return on, resolved to 1e-3, the contact
+    /// diameter of the seed's nitinol rod (1.5875 mm on L = 0.5 m: 3.175·10⁻³).
     fn default() -> Self {
         BifurcationParams {
             der: DerBoundaryParams {
@@ -130,6 +136,7 @@ impl Default for BifurcationParams {
             },
             statics_return: true,
             return_tol_rel: 1e-3,
+            contact_diameter: 2.0 * crate::rod::dynamics::PhysicalRod::nitinol().slenderness(),
         }
     }
 }
@@ -144,6 +151,14 @@ impl BifurcationParams {
                 "return_tol_rel",
                 self.return_tol_rel,
                 "must be < 0.1",
+            ));
+        }
+        require_positive("contact_diameter", self.contact_diameter)?;
+        if self.contact_diameter >= 0.1 {
+            return Err(Error::invalid(
+                "contact_diameter",
+                self.contact_diameter,
+                "must be < 0.1 (units of the rod length)",
             ));
         }
         Ok(())
@@ -205,6 +220,8 @@ pub struct Bifurcation {
     pub s_return: Real,
     /// Resolution of `s_return` (the far branch ends in `[s_return − this, s_return]`).
     pub s_return_uncertainty: Real,
+    /// The far (post-snap) branch followed down in s (empty when not computed).
+    pub far_branch: Vec<unloading::BranchPoint>,
 }
 
 impl Bifurcation {
@@ -255,6 +272,7 @@ fn degenerate(reason: String, s_star: Real) -> Bifurcation {
         asymmetry: Real::NAN,
         s_return: Real::NAN,
         s_return_uncertainty: Real::NAN,
+        far_branch: Vec::new(),
     }
 }
 
@@ -355,6 +373,7 @@ fn classify_ray(
         asymmetry,
         s_return: Real::NAN,
         s_return_uncertainty: Real::NAN,
+        far_branch: Vec::new(),
     };
     if dlambda >= 0.0 {
         out.reason =
@@ -385,10 +404,23 @@ fn classify_ray(
                 der.clamp,
                 der.stretch,
                 p.return_tol_rel,
+                p.contact_diameter,
             ) {
                 Ok(r) => {
-                    out.s_return = r.s_return;
-                    out.s_return_uncertainty = r.uncertainty;
+                    if let Some((s, c)) = r.self_contact {
+                        out.reason = format!(
+                            "no static s_return: at s = {s:.4} the DER rod (no contact model) met itself or the rig: {c}; the real rod's return is not modelled"
+                        );
+                    } else if r.at_floor {
+                        out.reason = format!(
+                            "no static s_return: the far branch persists down to s = {:.3e} (10⁻³·s*); impossible for a real rod (the snap changed the linking number: contact missed)",
+                            r.s_return
+                        );
+                    } else {
+                        out.s_return = r.s_return;
+                        out.s_return_uncertainty = r.uncertainty;
+                    }
+                    out.far_branch = r.branch;
                 }
                 // The type stands; the return point is reported missing, with the cause.
                 Err(Error::NotConverged { what, .. }) => {

@@ -1,8 +1,9 @@
 //! The bifurcation type over the search directions: an equal-area map (the projection of
 //! [`super::direction_map::project`], κ̂ axis at the centre, +τ̂ right, +ω̂ up) with
 //! supercritical rays as blue squares, degenerate ones grey, and subcritical ones as dots
-//! coloured by the hysteresis width `s* − s_return` (viridis, colour bar on the right; grey
-//! rings where `s_return` was not computed). Labelled directions (the seed's DER examples) are
+//! coloured by the hysteresis width `s* − s_return` (viridis, colour bar on the right;
+//! vermillion rings where no `s_return` is reported: not computed, or not trusted — the CSV's
+//! `reason` says which, e.g. the DER rod's snap met the clamp). Labelled directions (the seed's DER examples) are
 //! marked with their label: × subcritical, ○ supercritical.
 //!
 //! Records: [`BifurcationRow`]s, read from the CSV of `helixreach bifurcation` by
@@ -203,6 +204,7 @@ impl Figure for Map<'_> {
         let area = std::f64::consts::PI * (R * R) as f64 * if self.half { 0.5 } else { 1.0 };
         let rm = (0.8 * (area / n / std::f64::consts::PI).sqrt()).clamp(2.0, 10.0) as i32;
         let mut counts = [0usize; 3];
+        let mut no_return = 0usize;
         for r in self.rows {
             let (x, y) = project(&r.dir);
             let p = to_px(x, y);
@@ -223,6 +225,7 @@ impl Figure for Map<'_> {
                             style::viridis((h / self.h_max).clamp(0.0, 1.0)).filled(),
                         ))?,
                         None => {
+                            no_return += 1;
                             root.draw(&Circle::new(p, rm, style::VERMILLION.stroke_width(2)))?
                         }
                     }
@@ -287,6 +290,15 @@ impl Figure for Map<'_> {
         root.draw(&Circle::new((lx + 14, y), 8, style::viridis(0.6).filled()))?;
         root.draw(&entry(y, format!("subcritical ({})", counts[0])))?;
         y += 34;
+        if no_return > 0 {
+            root.draw(&Circle::new(
+                (lx + 14, y),
+                8,
+                style::VERMILLION.stroke_width(2),
+            ))?;
+            root.draw(&entry(y, format!("  of which no s_return ({no_return})")))?;
+            y += 34;
+        }
         root.draw(&Circle::new((lx + 14, y), 8, style::GREY.filled()))?;
         root.draw(&entry(y, format!("degenerate ({})", counts[2])))?;
         y += 34;

@@ -60,6 +60,10 @@ pub struct Args {
     /// Relative resolution of s_return.
     #[arg(long, default_value_t = 1e-3)]
     pub return_tol: Real,
+    /// Rod diameter (units of L) for the self-contact check of the far branch (default: the
+    /// seed's nitinol rod, 3.175e-3).
+    #[arg(long)]
+    pub contact_diameter: Option<Real>,
     /// Continue an existing --out (or its checkpoint OUT.partial) made with the same settings:
     /// compute only the missing directions.
     #[arg(long)]
@@ -130,6 +134,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         },
         statics_return: !a.no_return,
         return_tol_rel: a.return_tol,
+        contact_diameter: a
+            .contact_diameter
+            .unwrap_or(BifurcationParams::default().contact_diameter),
     };
     p.validate().context("bifurcation parameters")?;
     let resolution = format!("n={}", a.n_edges);
@@ -138,7 +145,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .setting("resolution", &resolution)
         .setting("nu", a.nu)
         .setting("statics_return", p.statics_return)
-        .setting("return_tol", a.return_tol);
+        .setting("return_tol", a.return_tol)
+        .setting("contact_diameter", p.contact_diameter);
     opts.resume = a.resume;
     opts.force = a.force;
     opts.shard = a.shard;
