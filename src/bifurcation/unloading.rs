@@ -22,7 +22,7 @@
 //!
 //! **Self-contact.** The DER energy has no contact term. Every state of the relaxation and of
 //! the damped end moves, and every accepted equilibrium, is checked by a
-//! [`ContactMonitor`](super::contact::ContactMonitor): when two edges come closer than the rod's
+//! [`ContactMonitor`]: when two edges come closer than the rod's
 //! diameter or pass through each other, the real rod would touch itself there and the DER
 //! branch says nothing about it. The result then carries [`StaticReturn::self_contact`] and no
 //! `s_return` (NaN). A continuation step whose Newton jump crosses edges (not a motion: a
