@@ -178,6 +178,7 @@ pub fn static_return(
     if let Some(c) = monitor.observe(&st) {
         return Ok(contact(s_a, c, Vec::new(), 0));
     }
+    let helix_energy = crate::rod::energy::energy(&rod, &st);
     let x = KICK / mode.max_node.max(1e-300);
     for (q, p) in st.q.iter_mut().zip(&mode.phi) {
         *q += x * p;
@@ -226,9 +227,15 @@ pub fn static_return(
     };
     let snap_size = distance_to_helix(ray, &st, s_a)?;
     if snap_size <= AWAY {
+        // A *stable* state on the centerline of the *unstable* helix differs from it in twist by
+        // whole turns: the DER rod changed its linking number (through itself or an end) in a
+        // way the contact monitor did not see.
+        let e = crate::rod::energy::energy(&rod, &st);
         return Err(Error::NotConverged {
             what: format!(
-                "post-snap equilibrium at s = {s_a}: relaxed to a state only {snap_size} from the helix"
+                "post-snap equilibrium at s = {s_a:.4}: relaxed to a stable state only {snap_size:.1e} from the \
+                 unstable helix's centerline with elastic energy {e:.4} against the helix's {helix_energy:.4} \
+                 (its twist differs by whole turns: the contact-free DER rod changed its linking number)"
             ),
             iterations: 0,
             residual: snap_size,
