@@ -7,11 +7,15 @@
 //! plan over them, so a ray is testable for `dense_samples = k` exactly when it is testable at a
 //! level ≤ k: one pass gives the coverage at every k = R (the base rungs alone), 2R, 4R, … ≤ D.
 //!
-//! Writes `coverage_density.csv` (one row per direction), `coverage_density.png` / `.svg` (the
+//! `--no-gate` switches the pointwise gate before the dense levels off
+//! ([`Planner::set_level_gate`]: every level runs, as before the gate) — run with and without it
+//! and compare the per-ray CSVs to see what the gate changes.
+//!
+//! Writes `coverage_density.csv` (one row per direction, with `levels_gated`), `coverage_density.png` / `.svg` (the
 //! curve) into `--out DIR` (default `coverage_density/`) and prints a Markdown table.
 //!
 //! Run: `cargo run --release --example coverage_convergence -- [--directions N] [--max D]
-//! [--roll fixed|motor] [--rig RIG] [--out DIR]`
+//! [--roll fixed|motor] [--rig RIG] [--no-gate] [--out DIR]`
 
 use helixreach::directions::fibonacci;
 use helixreach::math::Real;
@@ -37,11 +41,12 @@ fn main() -> anyhow::Result<()> {
     let mut rig = Rig::load(&arg("--rig").unwrap_or_else(|| "sawyer-seed".into()))?;
     rig.planner.dense_samples = dmax;
     let base = rig.planner.redundancy_samples;
-    let planner = Planner::new(rig)?;
+    let mut planner = Planner::new(rig)?;
+    planner.set_level_gate(!args.iter().any(|a| a == "--no-gate"));
     let dirs = fibonacci(n, true)?;
     let done = AtomicUsize::new(0);
     let t0 = std::time::Instant::now();
-    let rows: Vec<helixreach::Result<(Real, ReachClass, usize, Real)>> = dirs
+    let rows: Vec<helixreach::Result<(Real, ReachClass, usize, Real, bool)>> = dirs
         .par_iter()
         .map(|d| {
             let s = helixreach::boundary::continuum::critical_s(d, 1e-10)?.s_star;
@@ -56,15 +61,16 @@ fn main() -> anyhow::Result<()> {
                     t0.elapsed().as_secs_f64()
                 );
             }
-            Ok((p.s_reached, p.class, p.start_samples, cpu))
+            Ok((p.s_reached, p.class, p.start_samples, cpu, p.levels_gated))
         })
         .collect();
-    let mut csv = String::from("kappa,tau,omega,class,s_reached,start_samples,cpu_s\n");
+    let mut csv =
+        String::from("kappa,tau,omega,class,s_reached,start_samples,cpu_s,levels_gated\n");
     let mut plans = Vec::with_capacity(rows.len());
     for (d, r) in dirs.iter().zip(rows) {
-        let (s, class, k, cpu) = r?;
+        let (s, class, k, cpu, gated) = r?;
         csv += &format!(
-            "{},{},{},{},{s},{k},{cpu}\n",
+            "{},{},{},{},{s},{k},{cpu},{gated}\n",
             d.kappa,
             d.tau,
             d.omega,

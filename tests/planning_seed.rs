@@ -16,6 +16,7 @@ use helixreach::directions::Direction;
 use helixreach::helix::{discrete, Helix};
 use helixreach::math::{rot_z, Mat3, Real, Vec3};
 use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
+use helixreach::planning::pose_path::{pose_path, Ray, Spacing};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
 use helixreach::planning::witness::{self, read_seed_runs, SeedRun, Witness, WitnessEnd};
 use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
@@ -183,6 +184,62 @@ fn more_start_samples_never_reach_less() {
                 "dense_samples {} reaches less than {}: {d:?}: {r:?}",
                 levels[k],
                 levels[k - 1]
+            );
+        }
+    }
+}
+
+/// The pointwise gate before the dense levels keeps every class: planned with and without it
+/// (`Planner::set_level_gate`), on quarter-sphere directions (of the 200-direction lattice) the
+/// base rungs leave partial: 1, 5 and 33 are gated (their base plan stops in a waypoint interval
+/// whose end has no valid configuration), 16 is not (the levels make it testable). A gated ray
+/// reaches at most one waypoint interval less than the levels (module docs, "Pointwise gate").
+#[test]
+fn pointwise_gate_keeps_the_class() {
+    let rig = Rig::load("sawyer-seed").unwrap();
+    let gated = Planner::new(rig.clone()).unwrap();
+    let mut ungated = Planner::new(rig.clone()).unwrap();
+    ungated.set_level_gate(false);
+    let lattice = helixreach::directions::fibonacci(200, true).unwrap();
+    let cases = [(1usize, true), (5, true), (33, true), (16, false)];
+    let rows: Vec<_> = cases
+        .par_iter()
+        .map(|&(i, _)| {
+            let d = lattice[i];
+            let s = s_star(&d);
+            let g = gated.plan_ray(&d, s, 0.0, RollMode::Fixed, false).unwrap();
+            let u = ungated
+                .plan_ray(&d, s, 0.0, RollMode::Fixed, false)
+                .unwrap();
+            (d, g, u)
+        })
+        .collect();
+    for ((i, expect_gated), (d, g, u)) in cases.iter().zip(&rows) {
+        let ctx = format!(
+            "direction {i} {d:?}: gated {:?} s {} (levels_gated {}), ungated {:?} s {}",
+            g.class, g.s_reached, g.levels_gated, u.class, u.s_reached
+        );
+        eprintln!("{ctx}");
+        assert_eq!(g.levels_gated, *expect_gated, "{ctx}");
+        assert!(!u.levels_gated, "{ctx}");
+        assert_eq!(g.class, u.class, "{ctx}");
+        assert!(g.s_reached <= u.s_reached, "{ctx}");
+        // Less by under one regular waypoint interval.
+        let ray = Ray {
+            dir: [d.kappa, d.tau, d.omega],
+            azimuth: 0.0,
+        };
+        let wps = pose_path(&rig, &ray, g.s_end, &Spacing::of(&rig)).unwrap();
+        let next = wps
+            .iter()
+            .find(|w| w.s > g.s_reached)
+            .map_or(g.s_end, |w| w.s);
+        assert!(u.s_reached < next, "{ctx}: the levels passed {next}");
+        if !expect_gated {
+            assert_eq!(
+                (g.s_reached, g.start_samples),
+                (u.s_reached, u.start_samples),
+                "{ctx}"
             );
         }
     }

@@ -38,7 +38,8 @@
 //!
 //! **Monotone in sampling**: the levels for `dense_samples` D are a subset of those for 2D, so
 //! doubling D never reaches less. (The base width R is not such a knob: raising it changes
-//! every level.)
+//! every level.) The pointwise gate below depends on the base plan only, so it acts alike for
+//! every D.
 //!
 //! **Resolution**: level k samples each start component at k points, about L/k apart along it
 //! (L ≈ 5.7 rad max-norm for the seed rig's start loop: 227 walk samples at 0.05 rad), so
@@ -47,9 +48,38 @@
 //! every answer is the same from k = 16 to 256 (52 testable; 45 without dense levels). On 200
 //! quarter-sphere directions (margin 0.1, `examples/coverage_convergence.rs`) the testable
 //! fraction is 54.5 / 76.5 / 76.5 / 78.0 / 78.0 % at k = 8 (base) / 16 / 32 / 64 / 128:
-//! converged at 64; the default 32 is 1.5 points short (README). Cost: a ray testable from the base rungs costs
-//! nothing more; a miss costs every level (≈ 0.4 s at k = 16, 1 s at 32, 5 s at 128 CPU for a
-//! ray blocked near its end, release, under load).
+//! converged at 64; the default 32 is 1.5 points short (README). Cost: a ray testable from the
+//! base rungs costs nothing more; a ray the levels run for pays every level (≈ 0.4 s at k = 16,
+//! 1 s at 32, 5 s at 128 CPU for a ray blocked near its end, release, under load).
+//!
+//! # Pointwise gate (before the dense levels, roll mode `fixed`)
+//! Every level is a full re-plan with rungs k × (components) wide, so a ray no level can
+//! improve would pay all of them for nothing. The gate decides that for rays the base plan
+//! leaves **partial** in roll mode `fixed`: the base stopped inside the regular waypoint
+//! interval (w_i, w_{i+1}] (at w_i or at one of its refinement midpoints). If the end
+//! w_{i+1} has no valid configuration — IK, joint and motor limits, self, scene and rod
+//! collision, the same tests as a ladder node — then no level can accept w_{i+1} (every node of a
+//! rung is such a configuration), so no level is testable and the levels are skipped
+//! (`RayPlan::levels_gated`).
+//!
+//! What is guaranteed, and what is not:
+//! - **Class**: unchanged, provided the pointwise test finds a valid configuration whenever one
+//!   exists. The test is sampled ([`Planner::pointwise_valid`]): tracks from the base plan's last
+//!   rung, 60 random restarts, and the redundancy joint j0 locked on a 0.05 rad grid over its
+//!   whole range (each value seeded from the 6 candidates nearest in j0) — finer than the
+//!   0.18 rad start spacing of the default level 32 and equal to the dense reference's grid. A
+//!   valid piece of the self-motion set narrower than the grid could be missed.
+//! - **s reached**: a level could still accept refinement midpoints inside (s_reached, w_{i+1})
+//!   (at most `MAX_REFINE` = 4 halvings per interval: the 1/16 points of the interval), so a
+//!   gated ray may report an s_reached short of what the levels would reach, by less than one
+//!   waypoint interval. Measured on 200 quarter-sphere directions (roll `fixed`, margin 0.1): all
+//!   200 classes identical with and without the gate; 2 of the 29 gated rays reach less, by
+//!   0.0045 and 0.0015 (0.06 % and 0.05 % of s).
+//! - Roll mode `motor` runs its levels without the gate (its valid set at a pose is
+//!   2-dimensional; a j0 grid does not sample it); its `fixed` fallback is gated.
+//! - Cost: a gated ray pays the base plan and one pointwise test (≈ 15 ms instead of ≈ 0.3 s for
+//!   a ray blocked early, release, under load). Rays whose base plan stops at a pose with valid
+//!   configurations (a discontinuity, typically blocked near their end) still run every level.
 //!
 //! # Edges
 //! `i → j` exists when every joint step is ≤ `max_joint_step`; its cost is `‖W·Δq‖ +
@@ -107,6 +137,17 @@ const MAX_RECONFIGURATIONS: usize = 64;
 
 /// Most samples of one self-motion walk (one direction from one node).
 const MAX_WALK_SAMPLES: usize = 2_000;
+
+/// Redundancy-joint grid of the pointwise gate (rad): finer than the densest default level's
+/// start spacing (≈ 0.18 rad of self-motion at `dense_samples` = 32) and equal to the dense
+/// reference's grid in `tests/planning_seed.rs`.
+const GATE_GRID: Real = 0.05;
+
+/// Free random restarts of the pointwise gate (all joints free), per pose.
+const GATE_RESTARTS: usize = 60;
+
+/// Seeds tracked per locked redundancy value by the pointwise gate (the nearest in that joint).
+const GATE_LOCK_SEEDS: usize = 6;
 
 /// Reachability class of a ray. The one class type: records read and write it by serde (the
 /// [`ReachClass::as_str`] names).
@@ -174,6 +215,10 @@ pub struct RayPlan {
     /// `redundancy_samples`, or k of a dense level (module docs). A ray testable at level k is
     /// testable for every `dense_samples` ≥ k.
     pub start_samples: usize,
+    /// The dense levels were skipped: the base plan was partial and the pointwise gate found no
+    /// valid configuration at the first regular waypoint beyond `s_reached` (module docs,
+    /// "Pointwise gate").
+    pub levels_gated: bool,
     /// DP cost of the path to `s_reached`.
     pub path_cost: Real,
     /// Largest joint step on the path (rad).
@@ -263,6 +308,8 @@ pub struct Planner {
     weights: [Real; MAX_DOF],
     start_fixed: OnceLock<std::result::Result<StartSet, CauseCounts>>,
     start_motor: OnceLock<std::result::Result<StartSet, CauseCounts>>,
+    /// Whether the pointwise gate may skip the dense levels ([`Planner::set_level_gate`]).
+    level_gate: bool,
     /// The same rig driven to `margin_supercritical` (made on first use by
     /// [`Planner::plan_best_typed`]; the error text when it cannot be made).
     other_margin: OnceLock<std::result::Result<Box<Planner>, String>>,
@@ -341,6 +388,7 @@ impl Planner {
             weights,
             start_fixed: OnceLock::new(),
             start_motor: OnceLock::new(),
+            level_gate: true,
             other_margin: OnceLock::new(),
         };
         // Unreachable clamp: no valid start in the rig's roll mode.
@@ -357,6 +405,12 @@ impl Planner {
             ));
         }
         Ok(planner)
+    }
+
+    /// Switch the pointwise gate before the dense levels on (the default) or off (module docs,
+    /// "Pointwise gate"; off, every level runs, as before the gate: for comparisons).
+    pub fn set_level_gate(&mut self, on: bool) {
+        self.level_gate = on;
     }
 
     /// The rig.
@@ -753,7 +807,10 @@ impl Planner {
             nodes.push(n);
         }
         let width = self.rig.planner.redundancy_samples;
-        self.plan_from(dir, s_star, azimuth, roll, want_path, &nodes, width)
+        let mut last = Vec::new();
+        self.plan_from(
+            dir, s_star, azimuth, roll, want_path, &nodes, width, &mut last,
+        )
     }
 
     /// Plan from the first start rung; when that is not testable, from each further start
@@ -769,15 +826,37 @@ impl Planner {
         let set = self.start(roll).ok();
         let width = self.rig.planner.redundancy_samples;
         let first = set.map_or(&[][..], |s| &s.first[..]);
-        let mut best = self.plan_from(dir, s_star, azimuth, roll, want_path, first, width)?;
+        let mut last = Vec::new();
+        let mut best_last = Vec::new();
+        let mut best = self.plan_from(
+            dir,
+            s_star,
+            azimuth,
+            roll,
+            want_path,
+            first,
+            width,
+            &mut best_last,
+        )?;
         for group in set.map_or(&[][..], |s| &s.others[..]) {
             if best.class == ReachClass::Testable {
                 break;
             }
-            let p = self.plan_from(dir, s_star, azimuth, roll, want_path, group, width)?;
+            let p = self.plan_from(
+                dir, s_star, azimuth, roll, want_path, group, width, &mut last,
+            )?;
             if p.s_reached > best.s_reached {
                 best = p;
+                std::mem::swap(&mut best_last, &mut last);
             }
+        }
+        if self.level_gate
+            && best.class != ReachClass::Testable
+            && 2 * width <= self.rig.planner.dense_samples
+            && self.levels_cannot_pass(&best, &best_last)?
+        {
+            best.levels_gated = true;
+            return Ok(best);
         }
         // Dense levels: nested, denser samplings of every start component.
         let comps = set.map_or(&[][..], |s| &s.comps[..]);
@@ -787,8 +866,16 @@ impl Planner {
                 .iter()
                 .flat_map(|c| c.iter().take(k).copied())
                 .collect();
-            let mut p =
-                self.plan_from(dir, s_star, azimuth, roll, want_path, &start, start.len())?;
+            let mut p = self.plan_from(
+                dir,
+                s_star,
+                azimuth,
+                roll,
+                want_path,
+                &start,
+                start.len(),
+                &mut last,
+            )?;
             p.start_samples = k;
             if p.s_reached > best.s_reached {
                 best = p;
@@ -801,6 +888,102 @@ impl Planner {
         Ok(best)
     }
 
+    /// The pointwise gate before the dense levels (module docs, "Pointwise gate"): `true` when
+    /// `base` (a partial plan in roll mode `fixed` whose last rung is `base_last`) stopped in a
+    /// regular waypoint interval whose end has no valid configuration in the sampled pointwise
+    /// test ([`Planner::pointwise_valid`]), so no start level can pass that end.
+    fn levels_cannot_pass(&self, base: &RayPlan, base_last: &[Node]) -> Result<bool> {
+        if base.class != ReachClass::Partial || base.roll != RollMode::Fixed || self.dof != 7 {
+            return Ok(false);
+        }
+        let ray = Ray {
+            dir: [base.dir.kappa, base.dir.tau, base.dir.omega],
+            azimuth: base.azimuth,
+        };
+        let wps = pose_path(&self.rig, &ray, base.s_end, &Spacing::of(&self.rig))?;
+        let s_b = base.s_reached;
+        let Some(i) = wps.iter().rposition(|w| w.s <= s_b) else {
+            return Ok(false);
+        };
+        let Some(w_fail) = wps.get(i + 1) else {
+            return Ok(false);
+        };
+        let mut sc = self.new_scratch();
+        let free = IkSolver::new(
+            &self.model,
+            IkParams {
+                redundancy_joint: None,
+                restarts: GATE_RESTARTS,
+                max_iterations: 100,
+                ..self.ik.clone()
+            },
+        )?;
+        Ok(!self.pointwise_valid(w_fail, base.azimuth, base_last, &free, &mut sc)?)
+    }
+
+    /// Sampled pointwise test of waypoint `w` in roll mode `fixed`: is there a configuration
+    /// that holds its pose (IK), inside the joint and motor limits, free of self, scene and rod
+    /// collision? Candidates: tracks from `seeds` and `GATE_RESTARTS` random restarts (all joints
+    /// free), then the redundancy joint locked on a `GATE_GRID` grid over its whole range,
+    /// each value tracked from the `GATE_LOCK_SEEDS` candidates nearest in that joint. The first
+    /// valid one ends the test. Sampled: `false` means none was found.
+    fn pointwise_valid(
+        &self,
+        w: &Waypoint,
+        azimuth: Real,
+        seeds: &[Node],
+        free: &IkSolver<'_>,
+        sc: &mut Scratch,
+    ) -> Result<bool> {
+        if !self.motor_ok(w.motor) {
+            return Ok(false);
+        }
+        self.rod_nodes(w.kto, azimuth, &mut sc.rod)?;
+        let target = self.target(&w.tool, RollMode::Fixed);
+        // The seeds themselves also seed the locked runs.
+        let mut cand: Vec<[Real; MAX_DOF]> = seeds.iter().map(|n| n.q).collect();
+        let consider = |q: &[Real], cand: &mut Vec<[Real; MAX_DOF]>, sc: &mut Scratch| {
+            let mut a = [0.0; MAX_DOF];
+            a[..self.dof].copy_from_slice(q);
+            cand.push(a);
+            self.check_config(q, sc).is_ok()
+        };
+        for n in seeds {
+            if let Some(sol) = free.track(&target, &n.q[..self.dof], None) {
+                if consider(sol.joints(), &mut cand, sc) {
+                    return Ok(true);
+                }
+            }
+        }
+        for sol in free.solve_all(&target, &[]) {
+            if consider(sol.joints(), &mut cand, sc) {
+                return Ok(true);
+            }
+        }
+        if cand.is_empty() {
+            return Ok(false);
+        }
+        let j = self.red_joint;
+        let (lo, hi) = (self.model.lower()[j], self.model.upper()[j]);
+        let n = ((hi - lo) / GATE_GRID).floor() as usize;
+        let mut order: Vec<usize> = (0..cand.len()).collect();
+        for g in 0..=n {
+            let v = lo + g as Real * GATE_GRID;
+            order.sort_by(|&a, &b| (cand[a][j] - v).abs().total_cmp(&(cand[b][j] - v).abs()));
+            for &c in order.iter().take(GATE_LOCK_SEEDS) {
+                let seed = cand[c];
+                if let Some(sol) = free.track(&target, &seed[..self.dof], Some((j, v))) {
+                    let mut a = [0.0; MAX_DOF];
+                    a[..self.dof].copy_from_slice(sol.joints());
+                    if self.check_config(&a[..self.dof], sc).is_ok() {
+                        return Ok(true);
+                    }
+                }
+            }
+        }
+        Ok(false)
+    }
+
     fn plan_from(
         &self,
         dir: &Direction,
@@ -810,7 +993,9 @@ impl Planner {
         want_path: bool,
         start: &[Node],
         width: usize,
+        last_rung: &mut Vec<Node>,
     ) -> Result<RayPlan> {
+        last_rung.clear();
         if s_star.is_nan() || s_star <= 0.0 {
             return Err(Error::invalid("s_star", s_star, "must be > 0 (or +inf)"));
         }
@@ -838,6 +1023,7 @@ impl Planner {
             n_reached: 0,
             reconfigurations: 0,
             start_samples: width,
+            levels_gated: false,
             path_cost: 0.0,
             max_joint_step: 0.0,
             path: None,
@@ -937,6 +1123,7 @@ impl Planner {
             }
         }
         plan.n_waypoints = wps.len() + inserted;
+        last_rung.extend_from_slice(ladder.last().0);
         let skip = usize::from(!done.is_empty());
         let reached = reached_before + ladder.len() - skip;
         plan.n_reached = reached;
