@@ -26,6 +26,9 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+/// One direction: s reached, class, start samples of the plan, CPU seconds, levels gated.
+type Row = (Real, ReachClass, usize, Real, bool);
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let arg = |name: &str| {
@@ -46,7 +49,7 @@ fn main() -> anyhow::Result<()> {
     let dirs = fibonacci(n, true)?;
     let done = AtomicUsize::new(0);
     let t0 = std::time::Instant::now();
-    let rows: Vec<helixreach::Result<(Real, ReachClass, usize, Real, bool)>> = dirs
+    let rows: Vec<helixreach::Result<Row>> = dirs
         .par_iter()
         .map(|d| {
             let s = helixreach::boundary::continuum::critical_s(d, 1e-10)?.s_star;
