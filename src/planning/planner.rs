@@ -64,7 +64,7 @@
 //!
 //! What is guaranteed, and what is not:
 //! - **Class**: unchanged, provided the pointwise test finds a valid configuration whenever one
-//!   exists. The test is sampled ([`Planner::pointwise_valid`]): tracks from the base plan's last
+//!   exists. The test is sampled (`Planner::pointwise_valid`, private): tracks from the base plan's last
 //!   rung, 60 random restarts, and the redundancy joint j0 locked on a 0.05 rad grid over its
 //!   whole range (each value seeded from the 6 candidates nearest in j0) — finer than the
 //!   0.18 rad start spacing of the default level 32 and equal to the dense reference's grid. A
