@@ -73,7 +73,7 @@
 //!   (at most `MAX_REFINE` = 4 halvings per interval: the 1/16 points of the interval), so a
 //!   gated ray may report an s_reached short of what the levels would reach, by less than one
 //!   waypoint interval. Measured on 200 quarter-sphere directions (roll `fixed`, margin 0.1): all
-//!   200 classes identical with and without the gate; 2 of the 29 gated rays reach less, by
+//!   200 classes identical with and without the gate; 2 of the 22 gated rays reach less, by
 //!   0.0045 and 0.0015 (0.06 % and 0.05 % of s).
 //! - Roll mode `motor` runs its levels without the gate (its valid set at a pose is
 //!   2-dimensional; a j0 grid does not sample it); its `fixed` fallback is gated.
