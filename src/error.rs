@@ -48,6 +48,13 @@ pub enum Error {
         /// Last residual.
         residual: f64,
     },
+    /// A converged result failed its check against an independent method (e.g. a DER-statics
+    /// s* farther from the continuum s* than its error estimate): no number is returned.
+    #[error("{what}")]
+    Inconsistent {
+        /// What was computed, both values and the estimate they violate.
+        what: String,
+    },
     /// One item of a sweep failed (its key, e.g. the direction, and the cause).
     #[error("item {key}: {cause}")]
     Item {

@@ -300,6 +300,58 @@ fn banded_ldlt_matches_dense_solution_and_inertia() {
     assert!(indefinite >= 5, "only {indefinite} indefinite cases");
 }
 
+/// At the DER half-bandwidth (the right-looking, fixed-bandwidth kernel) a zero pivot is
+/// reported with its index, as by the general kernel: `A[0,0] = 0`, and a singular leading
+/// 2×2 minor of a block that does not start at row 0.
+#[test]
+fn banded_ldlt_reports_a_zero_pivot_at_the_der_bandwidth() {
+    let n = 30;
+    let p = HALF_BANDWIDTH;
+    let mut a = BandedSym::zeros(n, p);
+    for i in 0..n {
+        a.add(i, i, 4.0);
+    }
+    a.add(5, 5, -4.0);
+    let mut f = BandedLdlt::new(n, p);
+    assert_eq!(f.factor(&a, 5..n).unwrap_err().index, 0);
+    let mut b = BandedSym::zeros(n, p);
+    for i in 0..n {
+        b.add(i, i, 1.0);
+    }
+    b.add(7, 3, 1.0); // rows 3 and 7 of the block 3..n: [[1, 1], [1, 1]] after elimination
+    let e = f.factor(&b, 3..n).unwrap_err();
+    assert_eq!((e.index, e.pivot), (4, 0.0));
+}
+
+/// The gradient-only assembly (line searches) equals the gradient of the full assembly (the
+/// Hessian pass) to round-off, on a strained, twisted, non-equilibrium state.
+#[test]
+fn gradient_only_assembly_equals_the_full_assembly() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let dir = Direction::new(0.6, 0.7, 0.4).unwrap();
+    let p = DerBoundaryParams {
+        n_edges: 40,
+        ..Default::default()
+    };
+    let mut ray = helixreach::boundary::der::DerRay::new(&dir, &p).unwrap();
+    let mut st = ray.initial_state(5.0).unwrap();
+    let rod = ray.rod().clone();
+    for q in st.q.iter_mut() {
+        *q += rng.random_range(-1e-3..1e-3);
+    }
+    assert!(st.update_reference());
+    let nd = rod.n_dofs();
+    let (mut g1, mut g2) = (vec![0.0; nd], vec![0.0; nd]);
+    let mut h = BandedSym::zeros(nd, HALF_BANDWIDTH);
+    energy::gradient(&rod, &st, &mut g1);
+    energy::energy_gradient_hessian(&rod, &st, &mut g2, &mut h);
+    let scale = g2.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    assert!(scale > 1.0, "{scale}");
+    for (k, (a, b)) in g1.iter().zip(&g2).enumerate() {
+        assert!((a - b).abs() <= 1e-12 * scale, "dof {k}: {a} vs {b}");
+    }
+}
+
 #[test]
 fn banded_ldlt_reports_a_zero_pivot() {
     let mut a = BandedSym::zeros(3, 1);
@@ -754,7 +806,50 @@ fn der_unresolved_large_s_band_is_an_error_not_a_number() {
         ..Default::default()
     };
     let e = critical_s(&d, &p).unwrap_err().to_string();
-    assert!(e.contains("disagrees with the continuum"), "{e}");
+    assert!(
+        e.contains("misses the continuum s*") && e.contains("beyond its error estimate"),
+        "{e}"
+    );
+}
+
+/// The check against the continuum says what happened — a converged DER s* outside its error
+/// estimate, or a disagreement on whether the ray loses stability at all — with the direction,
+/// n and both values, never "did not converge after 0 iterations" (no iteration failed).
+#[test]
+fn der_check_against_continuum_names_the_disagreement() {
+    use helixreach::boundary::der::{check_against_continuum, CriticalS};
+    use helixreach::error::Error;
+    let d = Direction::new(0.3, 0.4, 0.5).unwrap();
+    let p = DerBoundaryParams::default();
+    let cs = |s_star, est_error| CriticalS { s_star, est_error };
+    // Within the estimates: fine.
+    check_against_continuum(&d, &cs(10.0, 0.2), &cs(10.1, 1e-6), &p).unwrap();
+    let cases = [
+        (cs(10.0, 0.01), cs(9.0, 1e-6), "misses the continuum s* = 9"),
+        (
+            cs(f64::INFINITY, 0.0),
+            cs(9.0, 1e-6),
+            "finds the ray stable up to s_max",
+        ),
+        (
+            cs(9.0, 0.01),
+            cs(f64::INFINITY, 0.0),
+            "although the continuum finds the ray stable",
+        ),
+    ];
+    for (der, cont, want) in cases {
+        let e = check_against_continuum(&d, &der, &cont, &p).unwrap_err();
+        assert!(matches!(e, Error::Inconsistent { .. }), "{e:?}");
+        let t = e.to_string();
+        assert!(
+            t.contains(want)
+                && t.contains("n_edges = 100")
+                && t.contains("(0.")
+                && !t.contains("did not converge")
+                && !t.contains("iterations"),
+            "{t}"
+        );
+    }
 }
 
 /// The empirical discretization bound of `est_error` (`DISCRETIZATION_COEFF·φ²·s*`) covers the

