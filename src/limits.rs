@@ -12,8 +12,10 @@
 //! | azimuths per ray (`--azimuths`, rig `azimuths`) | [`MAX_AZIMUTHS`] = 3,600 | 0.1° spacing |
 //! | IK redundancy samples (`ik --samples`) | [`MAX_IK_SAMPLES`] = 100,000 | |
 //! | IK random restarts (`ik --restarts`) | [`MAX_IK_RESTARTS`] = 100,000 | |
+//! | IK explicit lock values and lock seeds ([`crate::robot::ik::IkParams`]) | [`MAX_IK_SAMPLES`] | |
+//! | IK iterations per run ([`crate::robot::ik::IkParams::max_iterations`]) | [`MAX_IK_ITERATIONS`] = 100,000 | |
 //! | waypoints per ray (`plan --waypoints`, rig `waypoints`) | the rig's `max_waypoints`, itself ≤ [`MAX_WAYPOINTS`] = 1,000,000 | |
-//! | self-collision sampling (`robot --samples`) | [`MIN_DISABLED_SAMPLES`] = 10,000 ≤ n ≤ [`MAX_DISABLED_SAMPLES`] = 10,000,000 | see [`crate::robot`]'s disabled pairs |
+//! | self-collision sampling (`robot --samples`, [`crate::robot::DisabledPairs::compute`]) | [`MIN_DISABLED_SAMPLES`] = 10,000 ≤ n ≤ [`MAX_DISABLED_SAMPLES`] = 10,000,000 | see [`crate::robot`]'s disabled pairs |
 //! | DER edges of `simulate`/`disturbances` (`--n-edges`) | [`MAX_N_EDGES`] | |
 //! | rendered frames (`render --frames`, `--gif-frames`) | [`MAX_FRAMES`] = 10,000 | one image each |
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
@@ -39,6 +41,8 @@ pub const MAX_AZIMUTHS: usize = 3_600;
 pub const MAX_IK_SAMPLES: usize = 100_000;
 /// Most IK random restarts per redundancy sample.
 pub const MAX_IK_RESTARTS: usize = 100_000;
+/// Most Levenberg–Marquardt iterations of one IK run.
+pub const MAX_IK_ITERATIONS: usize = 100_000;
 /// Most waypoints per ray (the rig's `max_waypoints` may be lower).
 pub const MAX_WAYPOINTS: usize = 1_000_000;
 /// Fewest random configurations for recomputing a robot's never-colliding link pairs: with n

@@ -380,7 +380,7 @@ mod collision {
                 "{name}: {} samples",
                 stored.samples
             );
-            let fresh = DisabledPairs::compute(&m, 1000, stored.seed).unwrap();
+            let fresh = DisabledPairs::compute(&m, 10_000, stored.seed).unwrap();
             for p in &stored.disabled {
                 assert!(
                     fresh.disabled.contains(p),

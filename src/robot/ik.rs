@@ -272,6 +272,17 @@ impl<'a> IkSolver<'a> {
     pub fn new(model: &'a RobotModel, params: IkParams) -> Result<IkSolver<'a>> {
         crate::error::require_positive("ik.position_tolerance", params.position_tolerance)?;
         crate::error::require_positive("ik.angle_tolerance", params.angle_tolerance)?;
+        // Every count bounded (crate::limits): a typo is an error, not an hour-long solve.
+        use crate::limits::{check_size, MAX_IK_ITERATIONS, MAX_IK_RESTARTS, MAX_IK_SAMPLES};
+        check_size("ik.samples", params.samples, MAX_IK_SAMPLES)?;
+        check_size("ik.restarts", params.restarts, MAX_IK_RESTARTS)?;
+        check_size(
+            "ik.max_iterations",
+            params.max_iterations,
+            MAX_IK_ITERATIONS,
+        )?;
+        check_size("ik.lock_values", params.lock_values.len(), MAX_IK_SAMPLES)?;
+        check_size("ik.lock_seeds", params.lock_seeds, MAX_IK_SAMPLES)?;
         if let Some(j) = params.redundancy_joint {
             if j >= model.dof() {
                 return Err(Error::invalid(
@@ -532,5 +543,44 @@ impl<'a> IkSolver<'a> {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every count of [`IkParams`] is checked against [`crate::limits`] by [`IkSolver::new`]:
+    /// one past the limit is an error naming the field, the value and the limit; the limit
+    /// itself is accepted.
+    #[test]
+    fn ik_size_parameters_are_bounded_by_the_limits() {
+        use crate::limits::{MAX_IK_ITERATIONS, MAX_IK_RESTARTS, MAX_IK_SAMPLES};
+        let model = RobotModel::load("sawyer", None).unwrap();
+        type Set = fn(&mut IkParams, usize);
+        let cases: [(&str, usize, Set); 5] = [
+            ("ik.samples", MAX_IK_SAMPLES, |p, n| p.samples = n),
+            ("ik.restarts", MAX_IK_RESTARTS, |p, n| p.restarts = n),
+            ("ik.max_iterations", MAX_IK_ITERATIONS, |p, n| {
+                p.max_iterations = n
+            }),
+            ("ik.lock_values", MAX_IK_SAMPLES, |p, n| {
+                p.lock_values = vec![0.0; n]
+            }),
+            ("ik.lock_seeds", MAX_IK_SAMPLES, |p, n| p.lock_seeds = n),
+        ];
+        for (field, max, set) in cases {
+            let mut p = IkParams::default();
+            set(&mut p, max);
+            assert!(IkSolver::new(&model, p.clone()).is_ok(), "{field} = {max}");
+            set(&mut p, max + 1);
+            let e = IkSolver::new(&model, p).unwrap_err().to_string();
+            assert!(
+                e.contains(field)
+                    && e.contains(&(max + 1).to_string())
+                    && e.contains(&max.to_string()),
+                "{e}"
+            );
+        }
     }
 }

@@ -114,8 +114,18 @@ impl DisabledPairs {
 
     /// Sample `samples` random in-limit configurations (ChaCha8 stream from `seed`) and list
     /// the candidate link pairs (not same group, not adjacent) that never — or always — collide.
+    ///
+    /// `samples` must lie in [`MIN_DISABLED_SAMPLES`](crate::limits::MIN_DISABLED_SAMPLES) ..=
+    /// [`MAX_DISABLED_SAMPLES`](crate::limits::MAX_DISABLED_SAMPLES): fewer would list pairs
+    /// that do collide as never colliding (0 samples: every pair), more would run for hours.
     pub fn compute(model: &RobotModel, samples: usize, seed: u64) -> Result<DisabledPairs> {
         use rand::SeedableRng;
+        crate::limits::check_range(
+            "samples",
+            samples,
+            crate::limits::MIN_DISABLED_SAMPLES,
+            crate::limits::MAX_DISABLED_SAMPLES,
+        )?;
         let cm = CollisionModel::new(model, &DisabledPairs::default(), &[])?;
         let mut ws = cm.workspace();
         let pairs = cm.self_pair_links();
@@ -178,5 +188,30 @@ impl DisabledPairs {
         );
         s.push_str(&toml::to_string(self).unwrap_or_default());
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::limits::{MAX_DISABLED_SAMPLES, MIN_DISABLED_SAMPLES};
+
+    /// Too few samples (0 would disable every pair) or too many is an error naming the field,
+    /// the value and the range, before any sampling.
+    #[test]
+    fn compute_refuses_sample_counts_outside_the_limits() {
+        let model = RobotModel::load("sawyer", None).unwrap();
+        for n in [0, MIN_DISABLED_SAMPLES - 1, MAX_DISABLED_SAMPLES + 1] {
+            let e = DisabledPairs::compute(&model, n, 1)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("samples")
+                    && e.contains(&format!("= {n}"))
+                    && e.contains(&MIN_DISABLED_SAMPLES.to_string())
+                    && e.contains(&MAX_DISABLED_SAMPLES.to_string()),
+                "{e}"
+            );
+        }
     }
 }
