@@ -9,20 +9,29 @@
 //! ```
 //! Defaults: 24 directions, `target/der_convergence.csv`, NS = `25,50,100,200`, TOL = 1e-8 (the
 //! DER root tolerance, relative). The summary CSV has the columns
-//! `method,resolution,time_per_direction_s,max_rel_err,median_rel_err,worst_direction,failures,not_decreasing`
+//! `method,resolution,time_per_direction_s,evaluations,newton_iterations,solved,max_rel_err,worst_direction,median_rel_err,above_0.1pct,est_error_violations,not_decreasing,refused_kappa0,refused_resolution,refused_continuum_check,failed_solver`
 //! (one row per resolution and Richardson pair); `OUT` with `.csv` replaced by
-//! `_per_direction.csv` holds every direction's s* (reference and each n). The markdown table goes
-//! to stdout, progress to stderr.
+//! `_per_direction.csv` holds every direction's s* (reference and each n; empty where the
+//! solve returned an error). The markdown table goes to stdout, progress to stderr.
+//!
+//! Columns: the time is the mean single-thread CPU time per direction (every direction, also
+//! those that return an error), with the mean evaluations (Newton solves along the ray) and
+//! Newton iterations; the errors are over the *solved* directions (an error returned is never a
+//! number, and is counted by reason instead: the κ → 0 guard, the resolution guard, the check
+//! against the continuum, a solver failure); `> 0.1 %` counts solved directions with a relative
+//! error above 10⁻³; `est_error violated` counts solved directions whose |s* − reference|
+//! exceeds the returned `est_error` (a truth defect: must be 0); `err(n) ≥ err(n/2)` counts the
+//! directions solved at both resolutions whose error does not decrease.
 //!
 //! Directions run in parallel (rayon); each solve is timed with its own thread's CPU time
-//! (`/proc/thread-self/schedstat`), so the time per direction is single-thread CPU time even on a
-//! shared machine. A failed solve or a non-finite s* where the reference is finite counts as an
-//! infinite error and is named (never skipped). The DER search is seeded by the continuum s*
-//! (the default; the seed's cost is included).
+//! ([`helixreach::cpu_time::thread_cpu_seconds`]), so the time per direction is single-thread
+//! CPU time even on a shared machine. The DER search is seeded by the continuum s* (the
+//! default; the seed's cost is included).
 
 use helixreach::boundary::continuum;
-use helixreach::boundary::der::{critical_s, DerBoundaryParams};
+use helixreach::boundary::der::{critical_s_with_work, DerBoundaryParams};
 use helixreach::directions::{fibonacci, Direction};
+use helixreach::error::Error;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -32,13 +41,37 @@ const MAX_DIRECTIONS: usize = 100_000;
 /// Largest n accepted.
 const MAX_EDGES: usize = 2_000;
 
-/// CPU time of the calling thread in seconds (Linux), wall time elsewhere.
-fn thread_cpu_seconds(fallback: &Instant) -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|t| t.split_whitespace().next()?.parse::<f64>().ok())
-        .map(|ns| ns * 1e-9)
-        .unwrap_or_else(|| fallback.elapsed().as_secs_f64())
+/// Why a direction returned no s* (the reasons the table counts).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Refusal {
+    /// The κ → 0 extensibility guard.
+    KappaZero,
+    /// The resolution guard (too coarse n).
+    Resolution,
+    /// The check against the continuum (s* outside its est_error).
+    ContinuumCheck,
+    /// Any other error (Newton or continuation failure).
+    Solver,
+}
+
+fn refusal(e: &Error) -> Refusal {
+    let t = e.to_string();
+    match e {
+        Error::Inconsistent { .. } => Refusal::ContinuumCheck,
+        Error::InvalidParameter { .. } if t.contains("kappa = 0 plane") => Refusal::KappaZero,
+        Error::InvalidParameter { .. } if t.contains("too coarse") => Refusal::Resolution,
+        _ => Refusal::Solver,
+    }
+}
+
+/// One direction's outcome at one n.
+#[derive(Clone, Copy)]
+struct Solve {
+    /// s* and est_error, or why none was returned.
+    result: Result<(f64, f64), Refusal>,
+    cpu: f64,
+    evaluations: usize,
+    iterations: usize,
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -68,13 +101,17 @@ fn name(d: &Direction) -> String {
     format!("({:.4}, {:.4}, {:.4})", d.kappa, d.tau, d.omega)
 }
 
+/// One table row: per-direction relative errors (`None`: no s* returned).
 struct Row {
     method: String,
     resolution: String,
     time: f64,
-    errs: Vec<f64>,
-    failures: usize,
+    evaluations: f64,
+    iterations: f64,
+    errs: Vec<Option<f64>>,
+    violations: Option<usize>,
     not_decreasing: Option<usize>,
+    refused: Option<[usize; 4]>,
 }
 
 fn main() -> anyhow::Result<()> {
@@ -112,7 +149,7 @@ fn main() -> anyhow::Result<()> {
         })
         .collect();
     let mut rows: Vec<Row> = Vec::new();
-    let mut solved: Vec<(usize, Vec<f64>, f64)> = Vec::new();
+    let mut solved: Vec<(usize, Vec<Solve>, f64)> = Vec::new();
     for &n in &ns {
         let p = DerBoundaryParams {
             n_edges: n,
@@ -121,19 +158,19 @@ fn main() -> anyhow::Result<()> {
         };
         let done = AtomicUsize::new(0);
         let wall = Instant::now();
-        let res: Vec<(f64, f64)> = dirs
+        let res: Vec<Solve> = dirs
             .par_iter()
             .map(|d| {
-                let t0 = Instant::now();
-                let c0 = thread_cpu_seconds(&t0);
-                let s = match critical_s(d, &p) {
-                    Ok(c) => c.s_star,
+                let c0 = helixreach::cpu_time::thread_cpu_seconds().unwrap_or(f64::NAN);
+                let (r, (evaluations, iterations)) = critical_s_with_work(d, &p);
+                let cpu = helixreach::cpu_time::thread_cpu_seconds().unwrap_or(f64::NAN) - c0;
+                let result = match r {
+                    Ok(c) => Ok((c.s_star, c.est_error)),
                     Err(e) => {
                         eprintln!("  n = {n}: {}: {e}", name(d));
-                        f64::NAN
+                        Err(refusal(&e))
                     }
                 };
-                let dt = thread_cpu_seconds(&t0) - c0;
                 let k = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if k % (nd / 10).max(1) == 0 || k == nd {
                     eprintln!(
@@ -141,88 +178,139 @@ fn main() -> anyhow::Result<()> {
                         wall.elapsed().as_secs_f64()
                     );
                 }
-                (s, dt)
+                Solve {
+                    result,
+                    cpu,
+                    evaluations,
+                    iterations,
+                }
             })
             .collect();
-        let s: Vec<f64> = res.iter().map(|r| r.0).collect();
-        let time = res.iter().map(|r| r.1).sum::<f64>() / nd as f64;
-        let errs: Vec<f64> = s
+        let mean = |f: &dyn Fn(&Solve) -> f64| res.iter().map(f).sum::<f64>() / nd as f64;
+        let errs: Vec<Option<f64>> = res
             .iter()
             .zip(&reference)
-            .map(|(&x, &r)| rel_err(x, r))
+            .map(|(x, &r)| x.result.ok().map(|(s, _)| rel_err(s, r)))
             .collect();
-        let failures = s.iter().filter(|x| x.is_nan()).count();
-        let not_decreasing = solved.last().map(|(_, prev, _)| {
-            prev.iter()
-                .zip(&s)
-                .zip(&reference)
-                .filter(|((a, b), r)| {
-                    rel_err(**b, **r) >= rel_err(**a, **r) && rel_err(**a, **r) > 0.0
-                })
+        let violations = res
+            .iter()
+            .zip(&reference)
+            .filter(
+                |(x, &r)| matches!(x.result, Ok((s, e)) if (s - r).abs() > e || (s - r).is_nan()),
+            )
+            .count();
+        let mut refused = [0usize; 4];
+        for x in &res {
+            if let Err(why) = x.result {
+                refused[why as usize] += 1;
+            }
+        }
+        let not_decreasing = rows.last().map(|prev: &Row| {
+            prev.errs
+                .iter()
+                .zip(&errs)
+                .filter(|(a, b)| matches!((a, b), (Some(a), Some(b)) if b >= a && *a > 0.0))
                 .count()
         });
         rows.push(Row {
             method: "der-statics".into(),
             resolution: n.to_string(),
-            time,
+            time: mean(&|x| x.cpu),
+            evaluations: mean(&|x| x.evaluations as f64),
+            iterations: mean(&|x| x.iterations as f64),
             errs,
-            failures,
+            violations: Some(violations),
             not_decreasing,
+            refused: Some(refused),
         });
-        solved.push((n, s, time));
+        let time = rows.last().map(|r| r.time).unwrap_or(f64::NAN);
+        solved.push((n, res, time));
     }
     for w in solved.windows(2) {
         let (m, n2) = (w[0].0, w[1].0);
-        let errs: Vec<f64> = w[0]
+        let errs: Vec<Option<f64>> = w[0]
             .1
             .iter()
             .zip(&w[1].1)
             .zip(&reference)
-            .map(|((a, b), r)| rel_err((4.0 * b - a) / 3.0, *r))
+            .map(|((a, b), r)| match (a.result, b.result) {
+                (Ok((a, _)), Ok((b, _))) => Some(rel_err((4.0 * b - a) / 3.0, *r)),
+                _ => None,
+            })
             .collect();
         rows.push(Row {
             method: "der-statics-richardson".into(),
             resolution: format!("{m}+{n2}"),
             time: w[0].2 + w[1].2,
+            evaluations: f64::NAN,
+            iterations: f64::NAN,
             errs,
-            failures: 0,
+            violations: None,
             not_decreasing: None,
+            refused: None,
         });
     }
     let mut csv = String::from(
-        "method,resolution,time_per_direction_s,max_rel_err,median_rel_err,worst_direction,failures,not_decreasing\n",
+        "method,resolution,time_per_direction_s,evaluations,newton_iterations,solved,max_rel_err,worst_direction,median_rel_err,above_0.1pct,est_error_violations,not_decreasing,refused_kappa0,refused_resolution,refused_continuum_check,failed_solver\n",
     );
     println!("DER statics vs continuum (tol 1e-10) on the {nd}-direction Fibonacci half-sphere, DER tol {tol:e}:");
-    println!("| method | n | CPU time per direction | max rel. error | worst direction | median rel. error | failed | err(2n) ≥ err(n) |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("| method | n | CPU time per direction | evaluations / Newton iterations | solved | max rel. error (solved) | worst direction | median rel. error | > 0.1 % | est_error violated | err(n) ≥ err(n/2) | refused: κ→0 / resolution / continuum check / solver |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let opt = |k: Option<usize>| k.map(|k| k.to_string()).unwrap_or_else(|| "–".into());
     for r in &rows {
-        let (imax, max) =
-            r.errs.iter().enumerate().fold(
-                (0, 0.0_f64),
-                |(bi, b), (i, &e)| if e > b { (i, e) } else { (bi, b) },
-            );
-        let med = median(&mut r.errs.clone());
+        let ok: Vec<(usize, f64)> = r
+            .errs
+            .iter()
+            .enumerate()
+            .filter_map(|(i, e)| e.map(|e| (i, e)))
+            .collect();
+        let (imax, max) = ok.iter().fold(
+            (0, 0.0_f64),
+            |(bi, b), &(i, e)| if e > b { (i, e) } else { (bi, b) },
+        );
+        let med = median(&mut ok.iter().map(|x| x.1).collect::<Vec<_>>());
+        let above = ok.iter().filter(|x| x.1 > 1e-3).count();
         let worst = name(&dirs[imax]);
-        let nd_txt = r
-            .not_decreasing
-            .map(|k| k.to_string())
+        let work = if r.evaluations.is_finite() {
+            format!("{:.1} / {:.1}", r.evaluations, r.iterations)
+        } else {
+            "–".into()
+        };
+        let refused_md = r
+            .refused
+            .map(|f| format!("{} / {} / {} / {}", f[0], f[1], f[2], f[3]))
             .unwrap_or_else(|| "–".into());
         println!(
-            "| {} | {} | {:.2} ms | {max:.2e} | {worst} | {med:.2e} | {} | {nd_txt} |",
+            "| {} | {} | {:.2} ms | {work} | {} | {max:.2e} | {worst} | {med:.2e} | {above} | {} | {} | {refused_md} |",
             r.method,
             r.resolution,
             r.time * 1e3,
-            r.failures
+            ok.len(),
+            opt(r.violations),
+            opt(r.not_decreasing),
         );
+        let f = r.refused.map(|f| f.map(|k| k.to_string()));
+        let f = f.unwrap_or_else(|| ["".into(), "".into(), "".into(), "".into()]);
         csv.push_str(&format!(
-            "{},{},{:.6e},{max:.6e},{med:.6e},\"{worst}\",{},{nd_txt}\n",
-            r.method, r.resolution, r.time, r.failures
+            "{},{},{:.6e},{:.2},{:.2},{},{max:.6e},\"{worst}\",{med:.6e},{above},{},{},{},{},{},{}\n",
+            r.method,
+            r.resolution,
+            r.time,
+            r.evaluations,
+            r.iterations,
+            ok.len(),
+            r.violations.map(|k| k.to_string()).unwrap_or_default(),
+            r.not_decreasing.map(|k| k.to_string()).unwrap_or_default(),
+            f[0],
+            f[1],
+            f[2],
+            f[3]
         ));
     }
     helixreach::io::write_atomic(std::path::Path::new(&out), csv.as_bytes())?;
     let mut per = String::from("dir_kappa,dir_tau,dir_omega,s_star_continuum");
     for (n, _, _) in &solved {
-        per.push_str(&format!(",s_star_der_{n}"));
+        per.push_str(&format!(",s_star_der_{n},est_error_der_{n}"));
     }
     per.push('\n');
     for (i, d) in dirs.iter().enumerate() {
@@ -231,7 +319,10 @@ fn main() -> anyhow::Result<()> {
             d.kappa, d.tau, d.omega, reference[i]
         ));
         for (_, s, _) in &solved {
-            per.push_str(&format!(",{}", s[i]));
+            match s[i].result {
+                Ok((x, e)) => per.push_str(&format!(",{x},{e}")),
+                Err(_) => per.push_str(",,"),
+            }
         }
         per.push('\n');
     }
