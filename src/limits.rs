@@ -11,7 +11,7 @@
 //! | DER edges (`--n-edges`) | [`MAX_N_EDGES`] = 10,000 | 100× the default; cost grows ~n² per direction |
 //! | azimuths per ray (`--azimuths`, rig `azimuths`) | [`MAX_AZIMUTHS`] = 3,600 | 0.1° spacing |
 //! | IK redundancy samples (`ik --samples`) | [`MAX_IK_SAMPLES`] = 100,000 | |
-//! | IK random restarts (`ik --restarts`) | [`MAX_IK_RESTARTS`] = 100,000 | |
+//! | IK random restarts (`ik --restarts`) | [`MAX_IK_RESTARTS`] = 1,000,000 | ≥ 40 × [`MAX_RIG_COUNT`], the planner's start sampling |
 //! | IK explicit lock values and lock seeds ([`crate::robot::ik::IkParams`]) | [`MAX_IK_SAMPLES`] | |
 //! | IK iterations per run ([`crate::robot::ik::IkParams::max_iterations`]) | [`MAX_IK_ITERATIONS`] = 100,000 | |
 //! | waypoints per ray (`plan --waypoints`, rig `waypoints`) | the rig's `max_waypoints`, itself ≤ [`MAX_WAYPOINTS`] = 1,000,000 | |
@@ -39,8 +39,12 @@ pub const MAX_N_EDGES: usize = 10_000;
 pub const MAX_AZIMUTHS: usize = 3_600;
 /// Most IK redundancy samples.
 pub const MAX_IK_SAMPLES: usize = 100_000;
-/// Most IK random restarts per redundancy sample.
-pub const MAX_IK_RESTARTS: usize = 100_000;
+/// Most IK random restarts per redundancy sample. At least 40 × [`MAX_RIG_COUNT`]: the planner
+/// samples a start pose's self-motion manifold with `40 × max(redundancy_samples,
+/// roll.samples)` restarts ([`IkSolver::new`](crate::robot::ik::IkSolver::new) checks this
+/// limit), so every rig the rig limits accept stays plannable.
+pub const MAX_IK_RESTARTS: usize = 1_000_000;
+const _: () = assert!(40 * MAX_RIG_COUNT <= MAX_IK_RESTARTS);
 /// Most Levenberg–Marquardt iterations of one IK run.
 pub const MAX_IK_ITERATIONS: usize = 100_000;
 /// Most waypoints per ray (the rig's `max_waypoints` may be lower).
