@@ -45,16 +45,9 @@ pub const MATCH_TOL: Real = 1e-5;
 pub const NORM_NOTE_TOL: Real = 1e-6;
 /// The measured-file columns.
 pub const MEASURED_COLUMNS: [&str; 4] = ["dir_kappa", "dir_tau", "dir_omega", "s_measured"];
-/// The comparison CSV columns, in order.
-pub const HEADER: [&str; 7] = [
-    "dir_kappa",
-    "dir_tau",
-    "dir_omega",
-    "s_measured",
-    "s_sim",
-    "err",
-    "signed_diff",
-];
+/// The comparison CSV columns, in order ([`ComparisonRecord`](crate::records::compare::ComparisonRecord)).
+pub const HEADER: &[&str] =
+    <crate::records::compare::ComparisonRecord as crate::records::csv_out::CsvRecord>::HEADER;
 
 /// One measured snap point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -260,33 +253,17 @@ pub fn compare(measured: &[Measured], sim: &[Option<Real>]) -> Comparison {
     }
 }
 
-fn opt(x: Option<Real>) -> String {
-    x.map(|v| format!("{v}")).unwrap_or_default()
-}
-
 impl Comparison {
     /// The CSV text (header [`HEADER`], one row per measured direction).
-    pub fn to_csv(&self) -> String {
-        let mut s = HEADER.join(",");
-        s.push('\n');
-        for r in &self.rows {
-            s.push_str(&format!(
-                "{},{},{},{},{},{},{}\n",
-                r.dir.kappa,
-                r.dir.tau,
-                r.dir.omega,
-                r.s_measured,
-                opt(r.s_sim),
-                opt(r.err),
-                opt(r.signed_diff)
-            ));
-        }
-        s
+    pub fn to_csv(&self) -> Result<String> {
+        let rows: Vec<crate::records::compare::ComparisonRecord> =
+            self.rows.iter().map(Into::into).collect();
+        crate::records::csv_out::to_csv(&rows)
     }
 
     /// Write [`Comparison::to_csv`] atomically.
     pub fn write_csv(&self, path: &Path) -> Result<()> {
-        write_atomic(path, self.to_csv().as_bytes())
+        write_atomic(path, self.to_csv()?.as_bytes())
     }
 
     /// The JSON summary: `{count, mean, max, std, std_kind: "population", mean_signed_diff,

@@ -10,7 +10,6 @@ use crate::records::{Series, SeriesRow, SpeedErrorRow};
 use crate::rod::dynamics::{simulate_ray, SimParams, Simulation};
 use rayon::prelude::*;
 use serde::Serialize;
-use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
@@ -91,15 +90,7 @@ pub fn dynamics_rays(st: &Settings, out: &Path, log: &Log) -> Result<DynamicsRay
         let s_cont = continuum::critical_s(d, tol::S_STAR_REL)?.s_star;
         let s_dyn = sim.s_dyn();
         let file = format!("series_{}.csv", k + 1);
-        let mut csv = String::from("t,s,kappa,tau,omega,error,energy\n");
-        for x in &sim.samples {
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{},{},{}",
-                x.t, x.s, x.kappa, x.tau, x.omega, x.error, x.energy
-            );
-        }
-        write(out, &file, &csv)?;
+        write(out, &file, &crate::records::series::series_csv(&sim)?)?;
         let rel = (s_dyn - s_cont).abs() / s_cont;
         log.say(
             "dynamics",

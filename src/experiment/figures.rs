@@ -14,7 +14,6 @@ use crate::error::Result;
 use crate::planning::rig::Rig;
 use crate::plot;
 use serde::Serialize;
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// The demo's bifurcation map in quick mode: (quarter-sphere directions, DER edges, static
@@ -41,31 +40,13 @@ fn bifurcation_map(quick: bool, out: &Path, figure: &mut DrawFigure<'_>, log: &L
     p.statics_return = with_return;
     let t = std::time::Instant::now();
     let results = survey::survey(&dirs, &p)?;
-    let mut csv = String::from(
-        "dir_kappa,dir_tau,dir_omega,s_star,type,coefficient,s_return,hysteresis,resolution,reason\n",
-    );
-    let opt = |x: f64| {
-        if x.is_nan() {
-            String::new()
-        } else {
-            x.to_string()
-        }
-    };
-    for (d, b) in dirs.iter().zip(&results) {
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{},{},{},{},n={n_edges},\"{}\"",
-            d.kappa,
-            d.tau,
-            d.omega,
-            opt(b.s_star),
-            b.kind.name(),
-            opt(b.coefficient),
-            opt(b.s_return),
-            opt(b.hysteresis()),
-            b.reason.replace('"', "'")
-        );
-    }
+    let resolution = format!("n={n_edges}");
+    let records: Vec<crate::records::bifurcation::BifurcationRecord> = dirs
+        .iter()
+        .zip(&results)
+        .map(|(d, b)| crate::records::bifurcation::BifurcationRecord::new(d, b, &resolution))
+        .collect();
+    let csv = crate::records::csv_out::to_csv(&records)?;
     write(out, "bifurcation.csv", &csv)?;
     let count = |k: &str| results.iter().filter(|b| b.kind.name() == k).count();
     log.say(
@@ -158,16 +139,11 @@ pub fn figures(report: &StudyReport, out: &Path, log: &Log) -> Result<Figures> {
     bifurcation_map(report.settings.mode == "quick", out, &mut figure, log)?;
     let rows = report.speed_rows();
     if !rows.is_empty() {
-        let mut csv =
-            String::from("method,resolution,time_per_direction_s,max_rel_err,median_rel_err\n");
-        for r in &rows {
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{}",
-                r.method, r.resolution, r.time_per_direction_s, r.max_rel_err, r.median_rel_err
-            );
-        }
-        write(out, "speed_error.csv", &csv)?;
+        write(
+            out,
+            "speed_error.csv",
+            &crate::records::csv_out::to_csv(&rows)?,
+        )?;
         figure("speed_error", &|p| plot::speed_error::render(&rows, p))?;
     }
     files.extend(render_files);

@@ -15,6 +15,11 @@
 //! | [`read_trajectory`] | `helixreach plan` | `s,q0..qN` (consecutive from `q0`), `motor` optional |
 //! | [`read_joint_limits`] | user / `demo` | `joint,lower,upper` |
 
+pub mod bifurcation;
+pub mod compare;
+pub mod csv_out;
+pub mod series;
+
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::Real;
@@ -176,19 +181,33 @@ pub struct Series {
     pub s_reference: Option<Real>,
 }
 
-/// One row of the speed-versus-error table of boundary methods.
-#[derive(Debug, Clone, PartialEq)]
+/// One row of the speed-versus-error table of boundary methods (`speed_error.csv`,
+/// `helixreach boundary --speed-report`), written by [`csv_out::to_csv`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SpeedErrorRow {
     /// Method name (`continuum`, `der`, `dynamics`).
     pub method: String,
     /// Resolution (tolerance, n, dt …) as text.
     pub resolution: String,
-    /// Wall time per direction (s).
+    /// Time per direction (s): one thread's CPU time where the writer measured it so.
+    #[serde(serialize_with = "csv_out::real")]
     pub time_per_direction_s: Real,
     /// Maximum relative error of s* versus the reference.
+    #[serde(serialize_with = "csv_out::real")]
     pub max_rel_err: Real,
     /// Median relative error of s* versus the reference.
+    #[serde(serialize_with = "csv_out::real")]
     pub median_rel_err: Real,
+}
+
+impl csv_out::CsvRecord for SpeedErrorRow {
+    const HEADER: &'static [&'static str] = &[
+        "method",
+        "resolution",
+        "time_per_direction_s",
+        "max_rel_err",
+        "median_rel_err",
+    ];
 }
 
 /// One waypoint of a planned trajectory.

@@ -11,29 +11,17 @@
 //! checkpointed, resumable (same settings) and shardable through `helixreach::sweep::driver`;
 //! an existing `--out` is replaced only with `--force`.
 
-use super::boundary::{dir_key, fmt_real};
+use super::boundary::dir_key;
 use anyhow::{bail, Context};
 use helixreach::bifurcation::{classify, Bifurcation, BifurcationParams};
 use helixreach::boundary::der::DerBoundaryParams;
 use helixreach::directions::{self, Direction};
 use helixreach::math::Real;
+use helixreach::records::bifurcation::BifurcationRecord;
+use helixreach::records::csv_out::{self, CsvRecord};
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
-
-/// The bifurcation columns, in order.
-pub const HEADER: [&str; 10] = [
-    "dir_kappa",
-    "dir_tau",
-    "dir_omega",
-    "s_star",
-    "type",
-    "coefficient",
-    "s_return",
-    "hysteresis",
-    "resolution",
-    "reason",
-];
 
 /// Arguments of `helixreach bifurcation`.
 #[derive(Debug, clap::Args)]
@@ -82,26 +70,9 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-/// One CSV row.
-pub fn row(d: &Direction, b: &Bifurcation, resolution: &str) -> Vec<String> {
-    let opt = |x: Real| {
-        if x.is_nan() {
-            String::new()
-        } else {
-            fmt_real(x)
-        }
-    };
-    let mut v = dir_key(d);
-    v.extend([
-        opt(b.s_star),
-        b.kind.name().to_string(),
-        opt(b.coefficient),
-        opt(b.s_return),
-        opt(b.hysteresis()),
-        resolution.to_string(),
-        b.reason.clone(),
-    ]);
-    v
+/// One CSV row ([`BifurcationRecord`]).
+pub fn row(d: &Direction, b: &Bifurcation, resolution: &str) -> helixreach::Result<Vec<String>> {
+    csv_out::fields(&BifurcationRecord::new(d, b, resolution))
 }
 
 /// Run `helixreach bifurcation`.
@@ -140,7 +111,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     p.validate().context("bifurcation parameters")?;
     let resolution = format!("n={}", a.n_edges);
-    let mut opts = SweepOptions::new(&a.out, &HEADER, 3)
+    let mut opts = SweepOptions::new(&a.out, BifurcationRecord::HEADER, 3)
         .sweep("bifurcation")
         .setting("resolution", &resolution)
         .setting("nu", a.nu)
@@ -156,7 +127,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let summary = driver::run(
         &dirs,
         dir_key,
-        |d| Ok(row(d, &classify(d, &p)?, &resolution)),
+        |d| row(d, &classify(d, &p)?, &resolution),
         &opts,
     )?;
     eprintln!(

@@ -86,7 +86,7 @@ pub struct Args {
     pub speed_report: Option<PathBuf>,
 }
 
-pub use helixreach::records::{dir_key, fmt_real};
+pub use helixreach::records::{dir_key, SpeedErrorRow};
 
 /// One boundary row.
 fn row(d: &Direction, r: CriticalS, method: &str, resolution: &str) -> Vec<String> {
@@ -302,11 +302,19 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
             "{method} {label}: {:.3e} s/direction, max rel err {max:.3e}, median {med:.3e}",
             per
         );
-        lines.push(format!("{method},{label},{per:e},{max:e},{med:e}"));
+        lines.push(SpeedErrorRow {
+            method: method.to_string(),
+            resolution: label.to_string(),
+            time_per_direction_s: per,
+            max_rel_err: max,
+            median_rel_err: med,
+        });
     }
-    let header = "method,resolution,time_per_direction_s,max_rel_err,median_rel_err";
-    let mut text = String::from(header);
-    text.push('\n');
+    // The header and this method's rows by the record; rows of other methods already in the
+    // file are kept verbatim (one table for every method; they may hold infinite errors).
+    let new = helixreach::records::csv_out::to_csv(&lines)?;
+    let (header, body) = new.split_once('\n').unwrap_or((&new, ""));
+    let mut text = format!("{header}\n");
     if let Ok(old) = std::fs::read_to_string(path) {
         for l in old.lines().skip(1) {
             if !l.starts_with(&format!("{method},")) && !l.is_empty() {
@@ -315,10 +323,7 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
             }
         }
     }
-    for l in lines {
-        text.push_str(&l);
-        text.push('\n');
-    }
+    text.push_str(body);
     helixreach::io::write_atomic(path, text.as_bytes())?;
     Ok(())
 }

@@ -14,7 +14,6 @@ use helixreach::math::{Real, Vec3};
 use helixreach::rod::dynamics::presets::{Preset, STANDARD_GRAVITY};
 use helixreach::rod::dynamics::{simulate_ray, SimParams, Simulation, Unload};
 use helixreach::Error;
-use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -168,28 +167,11 @@ pub fn progress_bar(s_max: Real) -> indicatif::ProgressBar {
     bar
 }
 
-/// The series as CSV text (header `t,s,kappa,tau,omega,error,energy`).
-/// With unloading (`sim.s_turn` set) a last column `phase` is added.
-pub fn series_csv(sim: &Simulation) -> String {
-    let phased = sim.s_turn.is_some();
-    let mut out = String::from("t,s,kappa,tau,omega,error,energy");
-    out.push_str(if phased { ",phase\n" } else { "\n" });
-    for x in &sim.samples {
-        let _ = write!(
-            out,
-            "{},{},{},{},{},{},{}",
-            x.t, x.s, x.kappa, x.tau, x.omega, x.error, x.energy
-        );
-        if phased {
-            let _ = write!(out, ",{}", x.phase.name());
-        }
-        out.push('\n');
-    }
-    out
-}
-
 fn write_series(path: &Path, sim: &Simulation) -> anyhow::Result<()> {
-    helixreach::io::write_atomic(path, series_csv(sim).as_bytes())?;
+    helixreach::io::write_atomic(
+        path,
+        helixreach::records::series::series_csv(sim)?.as_bytes(),
+    )?;
     Ok(())
 }
 

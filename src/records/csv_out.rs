@@ -1,0 +1,249 @@
+//! Writing typed records as CSV: the one place a header is tied to its fields and a number is
+//! formatted.
+//!
+//! A record kind is a `serde::Serialize` struct whose fields, in order, are its columns
+//! ([`CsvRecord::HEADER`] names them; a test checks the names against the serde field names).
+//! Real numbers are written by [`fmt_real`] (the shortest text that reads back to the same
+//! `f64`; `inf`, `-inf`, `NaN`) through the field adapters [`real`], [`real_or_empty`] (NaN →
+//! empty field) and [`opt_real`] (`None` → empty field). Text fields are quoted only when they
+//! hold a comma, a quote or a line break (RFC 4180, the `csv` crate's rule), so every file
+//! reads back with any CSV reader.
+//!
+//! Whole files: [`to_csv`]. One row as fields (what the sweep driver stores, checkpoints and
+//! merges): [`fields`].
+//!
+//! ```
+//! use helixreach::records::{csv_out, SpeedErrorRow};
+//! let rows = [SpeedErrorRow {
+//!     method: "continuum".into(),
+//!     resolution: "tol=1e-8".into(),
+//!     time_per_direction_s: 2.5e-5,
+//!     max_rel_err: 1e-9,
+//!     median_rel_err: 0.0,
+//! }];
+//! assert_eq!(
+//!     csv_out::to_csv(&rows)?,
+//!     "method,resolution,time_per_direction_s,max_rel_err,median_rel_err\n\
+//!      continuum,tol=1e-8,0.000025,0.000000001,0\n"
+//! );
+//! # Ok::<(), helixreach::Error>(())
+//! ```
+
+use super::fmt_real;
+use crate::error::{Error, Result};
+use crate::math::Real;
+use serde::Serialize;
+
+/// A record kind written as CSV: a serde struct whose fields are the columns of [`Self::HEADER`],
+/// in order.
+pub trait CsvRecord: Serialize {
+    /// The column names, in field order.
+    const HEADER: &'static [&'static str];
+}
+
+fn ser_error(e: impl std::fmt::Display) -> Error {
+    Error::invalid("csv record", "", e.to_string())
+}
+
+/// The CSV text of `rows` under `header` (written even when `rows` is empty).
+pub fn to_csv_with<R: Serialize>(header: &[&str], rows: &[R]) -> Result<String> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    w.write_record(header).map_err(ser_error)?;
+    for r in rows {
+        w.serialize(r).map_err(ser_error)?;
+    }
+    let bytes = w.into_inner().map_err(ser_error)?;
+    String::from_utf8(bytes).map_err(ser_error)
+}
+
+/// The CSV text of `rows`: [`CsvRecord::HEADER`], then one line per row.
+pub fn to_csv<R: CsvRecord>(rows: &[R]) -> Result<String> {
+    to_csv_with(R::HEADER, rows)
+}
+
+/// One record as its fields' text (the sweep driver's row), formatted as [`to_csv`] writes them.
+pub fn fields<R: Serialize>(r: &R) -> Result<Vec<String>> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    w.serialize(r).map_err(ser_error)?;
+    let bytes = w.into_inner().map_err(ser_error)?;
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(bytes.as_slice());
+    let rec = rd
+        .records()
+        .next()
+        .ok_or_else(|| ser_error("a record serialized to no row"))?
+        .map_err(ser_error)?;
+    Ok(rec.iter().map(str::to_string).collect())
+}
+
+/// The serde field names of `r` in order (to check a [`CsvRecord::HEADER`]).
+pub fn field_names<R: Serialize>(r: &R) -> Result<Vec<String>> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(true)
+        .from_writer(Vec::new());
+    w.serialize(r).map_err(ser_error)?;
+    let bytes = w.into_inner().map_err(ser_error)?;
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .from_reader(bytes.as_slice());
+    let h = rd.headers().map_err(ser_error)?;
+    Ok(h.iter().map(str::to_string).collect())
+}
+
+/// Field adapter: a real by [`fmt_real`] (`#[serde(serialize_with = "csv_out::real")]`).
+pub fn real<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(&fmt_real(*x))
+}
+
+/// Field adapter: a real by [`fmt_real`], NaN (not computed) as an empty field.
+pub fn real_or_empty<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, S::Error> {
+    if x.is_nan() {
+        s.serialize_str("")
+    } else {
+        real(x, s)
+    }
+}
+
+/// Field adapter: `Some(x)` by [`fmt_real`], `None` as an empty field.
+pub fn opt_real<S: serde::Serializer>(
+    x: &Option<Real>,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    match x {
+        Some(v) => real(v, s),
+        None => s.serialize_str(""),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::records::bifurcation::BifurcationRecord;
+    use crate::records::compare::ComparisonRecord;
+    use crate::records::series::{PhasedSeriesRecord, SeriesRecord};
+    use crate::records::SpeedErrorRow;
+
+    fn header_matches<R: CsvRecord>(r: &R) {
+        assert_eq!(field_names(r).unwrap(), R::HEADER, "header vs serde fields");
+        assert_eq!(fields(r).unwrap().len(), R::HEADER.len());
+    }
+
+    fn series() -> SeriesRecord {
+        SeriesRecord {
+            t: 0.1,
+            s: 1.0 / 3.0,
+            kappa: 2.5e-17,
+            tau: -7.0,
+            omega: 1e300,
+            error: Real::NAN,
+            energy: Real::INFINITY,
+        }
+    }
+
+    /// Every record kind's header names its serde fields, in order.
+    #[test]
+    fn headers_name_the_fields_in_order() {
+        header_matches(&series());
+        let s = series();
+        header_matches(&PhasedSeriesRecord {
+            t: s.t,
+            s: s.s,
+            kappa: s.kappa,
+            tau: s.tau,
+            omega: s.omega,
+            error: s.error,
+            energy: s.energy,
+            phase: "unload",
+        });
+        header_matches(&SpeedErrorRow {
+            method: "der".into(),
+            resolution: "n=100".into(),
+            time_per_direction_s: 1.0,
+            max_rel_err: 0.0,
+            median_rel_err: 0.0,
+        });
+        header_matches(&ComparisonRecord {
+            dir_kappa: 1.0,
+            dir_tau: 0.0,
+            dir_omega: 0.0,
+            s_measured: 6.3,
+            s_sim: None,
+            err: Some(0.01),
+            signed_diff: None,
+        });
+        header_matches(&BifurcationRecord {
+            dir_kappa: 0.6,
+            dir_tau: 0.8,
+            dir_omega: 0.0,
+            s_star: 7.0,
+            kind: "degenerate",
+            coefficient: Real::NAN,
+            s_return: Real::NAN,
+            hysteresis: Real::NAN,
+            resolution: "n=30".into(),
+            reason: "Newton failed, at s = 7.1".into(),
+        });
+    }
+
+    /// Numbers are written as the hand-written writers did (`{}` of f64: the shortest text that
+    /// reads back to the same value), and read back bit for bit.
+    #[test]
+    fn numbers_match_display_and_read_back() {
+        let r = series();
+        let text = to_csv(&[r]).unwrap();
+        let by_hand = format!(
+            "t,s,kappa,tau,omega,error,energy\n{},{},{},{},{},{},{}\n",
+            r.t, r.s, r.kappa, r.tau, r.omega, r.error, r.energy
+        );
+        assert_eq!(text, by_hand);
+        let f = fields(&r).unwrap();
+        for (x, v) in f.iter().zip([r.t, r.s, r.kappa, r.tau, r.omega]) {
+            assert_eq!(x.parse::<Real>().unwrap().to_bits(), v.to_bits());
+        }
+        assert_eq!(f[5], "NaN");
+        assert_eq!(f[6], "inf");
+    }
+
+    /// Empty fields for values not computed; text with a comma or quote is quoted and reads
+    /// back whole; the header is written for no rows.
+    #[test]
+    fn empty_values_quoting_and_no_rows() {
+        let c = ComparisonRecord {
+            dir_kappa: 1.0,
+            dir_tau: 0.0,
+            dir_omega: 0.0,
+            s_measured: 6.5,
+            s_sim: None,
+            err: None,
+            signed_diff: None,
+        };
+        assert_eq!(fields(&c).unwrap(), ["1", "0", "0", "6.5", "", "", ""]);
+        let b = BifurcationRecord {
+            dir_kappa: 0.6,
+            dir_tau: 0.8,
+            dir_omega: 0.0,
+            s_star: Real::NAN,
+            kind: "degenerate",
+            coefficient: Real::NAN,
+            s_return: 5.0,
+            hysteresis: Real::NAN,
+            resolution: "n=30".into(),
+            reason: "Newton failed, \"no step\"".into(),
+        };
+        let text = to_csv(std::slice::from_ref(&b)).unwrap();
+        let mut rd = csv::Reader::from_reader(text.as_bytes());
+        let rec = rd.records().next().unwrap().unwrap();
+        assert_eq!(&rec[3], "");
+        assert_eq!(&rec[6], "5");
+        assert_eq!(&rec[9], b.reason);
+        assert_eq!(
+            to_csv::<SpeedErrorRow>(&[]).unwrap(),
+            "method,resolution,time_per_direction_s,max_rel_err,median_rel_err\n"
+        );
+    }
+}
