@@ -77,6 +77,19 @@ pub mod tol {
     /// Largest nondimensional distance s searched along a ray before it is declared
     /// stable everywhere (`s* = ∞`).
     pub const S_MAX: Real = 200.0;
+    /// A positive floor for a magnitude that is divided by or whose logarithm is taken: at or
+    /// below it the value counts as zero (far below any physical quantity of the crate, far above
+    /// the subnormals, so its reciprocal is finite).
+    pub const TINY: Real = 1e-300;
+    /// Two unit directions (κ̂, τ̂, ω̂) whose components all differ by less than this are the
+    /// same direction: the seed's files print six decimals.
+    pub const DIRECTION_MATCH: Real = 1e-6;
+    /// A direction given as unit is accepted when `|‖S̄‖ − 1|` is below this (what
+    /// `Direction::new`'s normalization leaves is ~1e-16).
+    pub const UNIT_DIRECTION: Real = 1e-12;
+    /// A direction with τ̂ ≥ −this counts as on the quarter-sphere τ̂ ≥ 0 (a lattice point's τ̂ is
+    /// ≥ 0 up to rounding of its normalization).
+    pub const ON_QUARTER: Real = 1e-9;
 }
 
 /// The twist ratio `c = k_t/k_b = 1/(1+ν)` of a circular cross-section, for a Poisson ratio
@@ -140,13 +153,16 @@ pub fn parallel_transport(d: &Vec3, a: &Vec3, b: &Vec3, fallback_axis: &Vec3) ->
     } else {
         let h = a + b;
         let hh = h.norm_squared();
-        if hh > 1e-300 {
+        if hh > tol::TINY {
             // S_h S_a d, reflections through the planes ⊥ a and ⊥ h.
             let d1 = d - 2.0 * a.dot(d) * a;
             d1 - (2.0 * h.dot(&d1) / hh) * h
         } else {
             let mut u = fallback_axis - a.dot(fallback_axis) * a;
-            if u.norm_squared() < 1e-12 {
+            // |u|² below this: the fallback axis is (nearly) parallel to a and gives no
+            // direction; a fixed perpendicular is used instead.
+            const PARALLEL_FALLBACK_SQ: Real = 1e-12;
+            if u.norm_squared() < PARALLEL_FALLBACK_SQ {
                 let e = if a.x.abs() < 0.6 {
                     Vec3::x()
                 } else {
@@ -161,10 +177,14 @@ pub fn parallel_transport(d: &Vec3, a: &Vec3, b: &Vec3, fallback_axis: &Vec3) ->
     }
 }
 
+/// Below this |x|, [`sinc`] and [`cosc`] use their Taylor series (truncated after x⁶: the
+/// remainder is below x⁸/9! ≈ 3e-30 relative, far under one ulp).
+const TAYLOR_BELOW: Real = 1e-3;
+
 /// `sin x / x`, accurate near 0.
 #[inline]
 pub fn sinc(x: Real) -> Real {
-    if x.abs() < 1e-3 {
+    if x.abs() < TAYLOR_BELOW {
         let x2 = x * x;
         1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0))
     } else {
@@ -175,7 +195,7 @@ pub fn sinc(x: Real) -> Real {
 /// `(1 − cos x) / x²`, accurate near 0.
 #[inline]
 pub fn cosc(x: Real) -> Real {
-    if x.abs() < 1e-3 {
+    if x.abs() < TAYLOR_BELOW {
         let x2 = x * x;
         0.5 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)))
     } else {

@@ -199,8 +199,9 @@ impl LayoutReport {
 }
 
 /// Read reference clamp positions from a seed `trajectories.csv`
-/// (`dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z`), matched to `dirs` (to 1e-6 after
-/// normalization). Every listed direction must be among `dirs`.
+/// (`dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z`), matched to `dirs` (to
+/// [`tol::DIRECTION_MATCH`](crate::math::tol::DIRECTION_MATCH) after normalization). Every
+/// listed direction must be among `dirs`.
 pub fn read_references(path: &Path, dirs: &[Direction]) -> Result<Vec<Reference>> {
     let mut table = crate::io::CsvInput::open(path)?;
     let hint = "header must contain dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z";
@@ -229,9 +230,10 @@ pub fn read_references(path: &Path, dirs: &[Direction]) -> Result<Vec<Reference>
         let idx = dirs
             .iter()
             .position(|x| {
-                (x.kappa - d.kappa).abs() < 1e-6
-                    && (x.tau - d.tau).abs() < 1e-6
-                    && (x.omega - d.omega).abs() < 1e-6
+                use crate::math::tol::DIRECTION_MATCH as M;
+                (x.kappa - d.kappa).abs() < M
+                    && (x.tau - d.tau).abs() < M
+                    && (x.omega - d.omega).abs() < M
             })
             .ok_or_else(|| bad("direction", "not in the layout's direction set".into()))?;
         let origin = [v[3], v[4], v[5]];

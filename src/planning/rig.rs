@@ -662,7 +662,7 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
         ));
     }
     let (d1, d3) = (d1.normalize(), d3.normalize());
-    if d1.dot(&d3).abs() > 1e-9 {
+    if d1.dot(&d3).abs() > crate::math::tol::INPUT_ROTATION {
         return Err(c.err(
             "clamp.d1",
             format!("{:?}", raw.clamp.d1),

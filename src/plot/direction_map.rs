@@ -66,7 +66,8 @@ pub fn render(
             modes.push(r.roll_mode.clone());
         }
     }
-    let half = rows.iter().all(|r| r.dir.tau >= -1e-9) && marked.iter().all(|d| d.tau >= -1e-9);
+    let on = |tau: f64| tau >= -crate::math::tol::ON_QUARTER;
+    let half = rows.iter().all(|r| on(r.dir.tau)) && marked.iter().all(|d| on(d.tau));
     let panels = modes
         .iter()
         .map(|m| {

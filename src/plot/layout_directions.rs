@@ -67,7 +67,7 @@ impl Figure for Map<'_> {
                 let t = std::f64::consts::PI * (i as f64 / 180.0);
                 (t.cos(), t.sin())
             })
-            .filter(|p| !quarter || p.0 >= -1e-9)
+            .filter(|p| !quarter || p.0 >= -crate::math::tol::ON_QUARTER)
             .collect();
         chart.draw_series(std::iter::once(PathElement::new(
             rim,

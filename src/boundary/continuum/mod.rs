@@ -188,7 +188,7 @@ fn check_direction(dir: &Direction) -> Result<()> {
         ));
     }
     let n = dir.norm();
-    if n.is_nan() || (n - 1.0).abs() > 1e-12 {
+    if n.is_nan() || (n - 1.0).abs() > tol::UNIT_DIRECTION {
         return Err(Error::invalid(
             "direction",
             format!("({}, {}, {})", dir.kappa, dir.tau, dir.omega),

@@ -234,7 +234,7 @@ pub fn detect(s: &[Real], e: &[Real], p: &DetectParams) -> Result<Option<Detecti
     let s_cross = if j == 0 {
         s[0]
     } else {
-        let (a, b) = (f[j - 1].max(1e-300), f[j]);
+        let (a, b) = (f[j - 1].max(crate::math::tol::TINY), f[j]);
         let w = if b > a {
             ((thr.ln() - a.ln()) / (b.ln() - a.ln())).clamp(0.0, 1.0)
         } else {

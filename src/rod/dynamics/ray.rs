@@ -52,6 +52,12 @@ use crate::rod::clamp::{clamp_nodes, ClampPlacement, End};
 use crate::rod::params::twist_ratio;
 use crate::rod::{Rod, RodState};
 
+/// A time step lands on a recording (or turning) time when it is within this fraction of `dt`
+/// of it: `s = v·t` accumulates rounding, and a step 1e-16 short must not skip a sample.
+const RECORD_SLACK: Real = 1e-9;
+/// The same in s (nondimensional): a step within this of a recording or turning point reaches it.
+const RECORD_SLACK_S: Real = 1e-12;
+
 /// Parameters of one simulated ray (SI units unless stated).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimParams {
@@ -430,7 +436,7 @@ pub fn simulate_ray(
         path_len += (endp - last_end).norm();
         last_end = endp;
         if phase != Phase::Load {
-            if t_next + 1e-9 * p.dt >= next_record_t {
+            if t_next + RECORD_SLACK * p.dt >= next_record_t {
                 samples.push(record(&st, t_next, s_next, phase)?);
                 progress(s_next);
                 next_record_t += record_dt;
@@ -440,7 +446,7 @@ pub fn simulate_ray(
             }
             continue;
         }
-        let recorded = s_next + 1e-12 >= next_record;
+        let recorded = s_next + RECORD_SLACK_S >= next_record;
         if recorded {
             let smp = record(&st, t_next, s_next, phase)?;
             samples.push(smp);
@@ -474,7 +480,7 @@ pub fn simulate_ray(
             None => {}
             Some(u) => {
                 let turn_now = match u.s_turn {
-                    Some(st) => s_next + 1e-12 >= st,
+                    Some(st) => s_next + RECORD_SLACK_S >= st,
                     None => stop,
                 };
                 if turn_now {
@@ -527,7 +533,10 @@ pub fn return_point(samples: &[Sample], level: Real, window: usize) -> Option<Re
         return Some(0.0);
     }
     let (s0, s1) = (un[last].s, un[last + 1].s);
-    let (a, b) = (m[last].max(1e-300).ln(), m[last + 1].max(1e-300).ln());
+    let (a, b) = (
+        m[last].max(crate::math::tol::TINY).ln(),
+        m[last + 1].max(crate::math::tol::TINY).ln(),
+    );
     let f = if a > b {
         ((a - level.ln()) / (a - b)).clamp(0.0, 1.0)
     } else {

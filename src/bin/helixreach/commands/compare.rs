@@ -57,7 +57,9 @@ fn simulate(m: &[Measured], method: Method, n_edges: usize) -> anyhow::Result<Ve
     let s: Vec<helixreach::Result<Real>> = m
         .par_iter()
         .map(|x| match method {
-            Method::Continuum => continuum::critical_s(&x.dir, 1e-10).map(|c| c.s_star),
+            Method::Continuum => {
+                continuum::critical_s(&x.dir, helixreach::math::tol::S_STAR_REL).map(|c| c.s_star)
+            }
             Method::Der => der::critical_s(&x.dir, &p).map(|c| c.s_star),
         })
         .collect();
