@@ -251,6 +251,35 @@ fn a_snap_through_the_clamp_gives_no_return_point_and_says_why() {
     );
 }
 
+/// Issue 12 item 3: on (0.442, 0.023, 0.897) the relaxed post-snap state at 1.02·s* is
+/// stable and within 10⁻⁴ of the centerline of the (unstable) helix: the contact-free DER rod
+/// passed through itself or over an end too fast for the per-step contact check and shed two
+/// turns of twist (elastic energy 10.56 against the helix's 68.17). Its linking number differs
+/// from the helix's by exactly −2 ([`helixreach::bifurcation::contact::linking_number`]); the
+/// row has no s_return and says so (session 3 said only "relaxed to a state only 6e-5 from the
+/// helix").
+#[test]
+fn a_passage_the_contact_check_misses_is_caught_by_the_linking_number() {
+    let d = Direction::new(
+        0.44235051471335335,
+        0.023333333333333334,
+        0.8965386649154552,
+    )
+    .unwrap();
+    let p = BifurcationParams {
+        statics_return: true,
+        ..params(100, 0.33)
+    };
+    let b = classify(&d, &p).unwrap();
+    assert_eq!(b.kind, BifurcationType::Subcritical, "{b:?}");
+    assert!(b.s_return.is_nan(), "{b:?}");
+    assert!(
+        b.reason.contains("linking number") && b.reason.contains("changed by -2.00"),
+        "{}",
+        b.reason
+    );
+}
+
 /// Issue 12: `helixreach bifurcation --fibonacci 150 --quarter` aborted at this direction
 /// (n = 100, main at 15afdbb: "constrained minimization along the critical mode did not
 /// converge after 30 iterations (residual NaN)"). The reduction's constrained Newton judged

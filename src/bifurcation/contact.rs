@@ -30,6 +30,7 @@
 use crate::math::{Real, Vec3};
 use crate::robot::collision::segment_distance_squared;
 use crate::rod::RodState;
+use std::f64::consts::PI;
 
 /// Edges closer than this along the rod (index difference) are neighbours and never checked.
 pub const MIN_EDGE_GAP: usize = 2;
@@ -188,6 +189,63 @@ fn interior_volume(p1: &Vec3, d1: &Vec3, p2: &Vec3, d2: &Vec3) -> Real {
     }
 }
 
+/// Length (units of L) of the straight rays that continue both ends in [`linking_number`]
+/// (a stand-in for rays to infinity: the writhe they miss falls off like 1/length).
+pub const LINKING_RAY: Real = 1e3;
+
+/// The linking number (turns) of the rod's material ribbon, `Lk = Tw + Wr`, with both ends
+/// continued by straight rays of length [`LINKING_RAY`] along their end tangents: `Tw` is the
+/// sum of the discrete twists `m_i` (material frame against the parallel-transported one) over
+/// 2π, `Wr` the Gauss double integral of the continued centerline, summed exactly over pairs of
+/// straight segments (Klenin & Langowski 2000: the solid angle of the quadrangle the two
+/// segments span, over 4π). For the same end clamps, Lk is unchanged by any motion in which the
+/// rod passes neither through itself nor over an end, and jumps by ±2 when it does: comparing
+/// Lk before and after a motion, or between neighbouring equilibria of a branch, catches a
+/// passage that [`ContactMonitor`] sampled too coarsely to see.
+pub fn linking_number(st: &RodState) -> Real {
+    let n = st.n_edges();
+    let twist: Real = (1..n).map(|i| st.twist(i)).sum::<Real>() / (2.0 * PI);
+    let mut pts = Vec::with_capacity(n + 3);
+    let t0 = st.tangent(0);
+    let t1 = st.tangent(n - 1);
+    pts.push(st.node(0) - LINKING_RAY * t0);
+    pts.extend((0..=n).map(|i| st.node(i)));
+    pts.push(st.node(n) + LINKING_RAY * t1);
+    let m = pts.len() - 1;
+    let mut wr = 0.0;
+    for i in 0..m {
+        for j in i + 2..m {
+            wr += segment_pair_writhe(&pts[i], &pts[i + 1], &pts[j], &pts[j + 1]);
+        }
+    }
+    twist + 2.0 * wr
+}
+
+/// The writhe contribution `Ω/(4π)` of the segment pair `r1r2`, `r3r4` (Klenin & Langowski
+/// 2000, eq. 13–15); 0 for (nearly) coplanar pairs.
+fn segment_pair_writhe(r1: &Vec3, r2: &Vec3, r3: &Vec3, r4: &Vec3) -> Real {
+    let (r13, r14, r23, r24) = (r3 - r1, r4 - r1, r3 - r2, r4 - r2);
+    let unit = |v: Vec3| {
+        let l = v.norm();
+        (l > 1e-300).then(|| v / l)
+    };
+    let (Some(n1), Some(n2), Some(n3), Some(n4)) = (
+        unit(r13.cross(&r14)),
+        unit(r14.cross(&r24)),
+        unit(r24.cross(&r23)),
+        unit(r23.cross(&r13)),
+    ) else {
+        return 0.0;
+    };
+    let asin = |x: Real| x.clamp(-1.0, 1.0).asin();
+    let omega = asin(n1.dot(&n2)) + asin(n2.dot(&n3)) + asin(n3.dot(&n4)) + asin(n4.dot(&n1));
+    let sign = (r4 - r3).cross(&(r2 - r1)).dot(&r13);
+    if sign == 0.0 {
+        return 0.0;
+    }
+    omega.copysign(sign) / (4.0 * PI)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -256,5 +314,48 @@ mod tests {
         assert_eq!(c.edges, (-1, 3));
         assert!(c.crossed);
         assert!(c.to_string().contains("the clamp's continuation"), "{c}");
+    }
+
+    #[test]
+    fn linking_number_counts_twist_and_jumps_by_two_at_a_crossing() {
+        // A straight rod: Lk is its twist.
+        let n = 20;
+        let nodes: Vec<Vec3> = (0..=n)
+            .map(|i| Vec3::new(0.0, 0.0, i as Real / n as Real))
+            .collect();
+        let theta: Vec<Real> = (0..n)
+            .map(|j| 4.0 * PI * j as Real / (n - 1) as Real)
+            .collect();
+        let st = RodState::from_nodes(&nodes, &theta, &Vec3::x()).unwrap();
+        assert!(
+            (linking_number(&st) - 2.0).abs() < 1e-9,
+            "{}",
+            linking_number(&st)
+        );
+        // An untwisted rod whose edge 4 is pushed through edge 2: the crossing changes the
+        // writhe of the continued curve by 2, and Lk with it (the twist is continuous).
+        let bent = |x: Real| {
+            let mut p: Vec<Vec3> = vec![
+                Vec3::new(0.0, 0.0, -0.4),
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(0.5, 0.0, 0.4),
+                Vec3::new(0.5, 0.0, -0.2),
+                Vec3::new(x, 0.3, 0.1),
+                Vec3::new(x, -0.3, 0.1),
+                Vec3::new(0.0, 0.0, 0.3),
+                Vec3::new(0.0, 0.0, 0.7),
+            ];
+            p[4].x = x;
+            p[5].x = x;
+            let th = vec![0.0; p.len() - 1];
+            RodState::from_nodes(&p, &th, &Vec3::y()).unwrap()
+        };
+        // Just before and after the crossing at x = 0.5 (and, for contrast, a step as small
+        // away from it: continuous).
+        let lk = |x| linking_number(&bent(x));
+        let jump = lk(0.501) - lk(0.499);
+        let smooth = lk(0.401) - lk(0.399);
+        assert!((jump.abs() - 2.0).abs() < 0.02, "{jump}");
+        assert!(smooth.abs() < 0.02, "{smooth}");
     }
 }

@@ -411,6 +411,10 @@ fn classify_ray(
                         out.reason = format!(
                             "no static s_return: at s = {s:.4} the DER rod (no contact model) met itself or the rig: {c}; the real rod's return is not modelled"
                         );
+                    } else if let Some((s, d)) = r.linking_change {
+                        out.reason = format!(
+                            "no static s_return: at s = {s:.4} the linking number of the DER rod (no contact model) changed by {d:+.2}: it passed through itself or over an end between two contact checks; the real rod's return is not modelled"
+                        );
                     } else if r.at_floor {
                         out.reason = format!(
                             "no static s_return: the far branch persists down to s = {:.3e} (10⁻³·s*); impossible for a real rod (the snap changed the linking number: contact missed)",

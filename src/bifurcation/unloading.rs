@@ -26,7 +26,11 @@
 //! diameter or pass through each other, the real rod would touch itself there and the DER
 //! branch says nothing about it. The result then carries [`StaticReturn::self_contact`] and no
 //! `s_return` (NaN). A continuation step whose Newton jump crosses edges (not a motion: a
-//! jump to another branch) is rejected like a failed step. A branch followed down to
+//! jump to another branch) is rejected like a failed step. A passage the per-step check
+//! samples too coarsely is caught by its consequence: the linking number
+//! ([`super::contact::linking_number`]) of the relaxed state differs from the helix's, or jumps
+//! between neighbouring equilibria of the branch, by more than [`LINKING_JUMP`]
+//! ([`StaticReturn::linking_change`], `s_return` NaN). A branch followed down to
 //! `s ≤ 10⁻³·s*` (the floor) is reported with `s_return` at the floor: it cannot exist for a
 //! real rod (near s = 0 the ends are a straight rod's, and a far state there needs a changed
 //! linking number) — the caller must not report it as a return point.
@@ -40,7 +44,7 @@
 //! stays above the detection threshold until the ringing has decayed, far below it (README,
 //! issue 12).
 
-use super::contact::{ContactMonitor, SelfContact};
+use super::contact::{linking_number, ContactMonitor, SelfContact};
 use super::reduction::CriticalMode;
 use crate::boundary::der::DerRay;
 use crate::directions::Direction;
@@ -58,6 +62,11 @@ pub const OVERSHOOT: Real = 0.02;
 pub const KICK: Real = 0.05;
 /// A state whose nodes are all within this distance (units of L) of the helix counts as the helix.
 pub const AWAY: Real = 0.01;
+/// A change of the linking number larger than this (turns) between the helix and the relaxed
+/// post-snap state, or between neighbouring equilibria of the far branch, is a passage of the
+/// rod through itself or over an end (a passage changes it by ±2; a continuation step by
+/// much less than 1).
+pub const LINKING_JUMP: Real = 1.0;
 
 /// Twist inertia per unit mass during the relaxation (only the path to rest depends on it).
 const RELAX_TWIST_INERTIA: Real = 0.01;
@@ -90,6 +99,9 @@ pub struct StaticReturn {
     pub self_contact: Option<(Real, SelfContact)>,
     /// The far branch was followed down to the floor `10⁻³·s*` (`s_return` is the floor).
     pub at_floor: bool,
+    /// Where the linking number of the rod jumped (then `s_return` is NaN): the s and the
+    /// jump (±2 for one passage through itself or over an end; [`linking_number`]).
+    pub linking_change: Option<(Real, Real)>,
 }
 
 /// One accepted equilibrium of the far branch.
@@ -174,11 +186,23 @@ pub fn static_return(
         branch,
         self_contact: Some((s, c)),
         at_floor: false,
+        linking_change: None,
+    };
+    let relinked = |s: Real, d: Real, branch: Vec<BranchPoint>, solves| StaticReturn {
+        s_return: Real::NAN,
+        uncertainty: Real::NAN,
+        snap_size: Real::NAN,
+        solves,
+        branch,
+        self_contact: None,
+        at_floor: false,
+        linking_change: Some((s, d)),
     };
     if let Some(c) = monitor.observe(&st) {
         return Ok(contact(s_a, c, Vec::new(), 0));
     }
     let helix_energy = crate::rod::energy::energy(&rod, &st);
+    let helix_lk = linking_number(&st);
     let x = KICK / mode.max_node.max(1e-300);
     for (q, p) in st.q.iter_mut().zip(&mode.phi) {
         *q += x * p;
@@ -225,6 +249,11 @@ pub fn static_return(
             residual: stepper.kinetic_energy(),
         });
     };
+    // A passage through itself or over an end that the per-step check sampled too coarsely.
+    let mut lk = linking_number(&st);
+    if (lk - helix_lk).abs() > LINKING_JUMP {
+        return Ok(relinked(s_a, lk - helix_lk, Vec::new(), 0));
+    }
     let snap_size = distance_to_helix(ray, &st, s_a)?;
     if snap_size <= AWAY {
         // A *stable* state on the centerline of the *unstable* helix differs from it in twist by
@@ -263,6 +292,7 @@ pub fn static_return(
                 branch,
                 self_contact: None,
                 at_floor: true,
+                linking_change: None,
             });
         }
         // Predictor: the far state moved by the change of the sampled helix from s to s_new
@@ -313,6 +343,11 @@ pub fn static_return(
                 Err(e) => return Err(e),
             };
         if ok {
+            let lk_new = linking_number(&trial);
+            if (lk_new - lk).abs() > LINKING_JUMP {
+                return Ok(relinked(s_new, lk_new - lk, branch, solves));
+            }
+            lk = lk_new;
             st.copy_from(&trial);
             s = s_new;
             branch.push(BranchPoint {
@@ -333,6 +368,7 @@ pub fn static_return(
         branch,
         self_contact: None,
         at_floor: false,
+        linking_change: None,
     })
 }
 
