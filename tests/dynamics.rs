@@ -496,6 +496,19 @@ fn bad_input_is_a_clear_error() {
             },
             "nu",
         ),
+        // Unloading without damping: the return read from the ringing rod would be its decay
+        // (3.69 against the static 5.94 along [1,1,1] at n = 16), so the run is refused.
+        (
+            SimParams {
+                unload: Some(helixreach::rod::dynamics::Unload {
+                    s_turn: None,
+                    hold: 0.0,
+                }),
+                damping: 0.0,
+                ..base
+            },
+            "damping",
+        ),
     ];
     for (p, field) in cases {
         let e = simulate_ray(&d, &p, &mut |_| {}).unwrap_err().to_string();

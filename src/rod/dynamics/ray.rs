@@ -38,6 +38,14 @@
 //! sample with ẽ ≥ T and the next one bracket the return, and `s_return` is the log-linear
 //! crossing of T between them. No unloading sample above T: `s_return` is `None` (the rod never
 //! left the helix, or came back during the hold); above T to the end: `s_return = 0`.
+//!
+//! Unloading requires damping ([`SimParams::damping`] > 0, else [`SimParams::validate`] refuses
+//! the run): without it the post-snap rod rings (implicit Euler barely damps the slow modes),
+//! leaves the static far branch before its fold and keeps its helix error above T until the
+//! ringing has decayed, so the crossing above would time the decay (3.69 against the static
+//! return 5.94 along [1,1,1] at n = 16), not the return. With ζ = 2/s the run follows the
+//! static far branch and returns just below its end (`tests/bifurcation.rs`,
+//! `damped_dynamic_unloading_follows_the_static_far_branch_and_returns_at_its_end`).
 
 use super::detect::{detect, DetectParams, Detection};
 use super::jitter::Jitter;
@@ -246,6 +254,16 @@ impl SimParams {
                     "the run would take up to {steps:.3e} time steps (s_max/(speed·dt), doubled \
                      and plus hold/dt when unloading); at most {max} (raise dt or speed)"
                 ),
+            ));
+        }
+        if self.unload.is_some() && self.damping == 0.0 {
+            return Err(Error::invalid(
+                "damping",
+                self.damping,
+                "unloading needs damping > 0 (e.g. 2 /s): undamped, the post-snap rod rings, \
+                 leaves the far branch early and its helix error stays above the threshold \
+                 until the ringing has decayed, so the return read from it would measure that \
+                 decay, not the return (module docs, \"Unloading\")",
             ));
         }
         Ok(())

@@ -58,7 +58,8 @@ pub struct Args {
     /// Jitter seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Mass-proportional viscous damping ζ (1/s).
+    /// Mass-proportional viscous damping ζ (1/s). `--unload` needs it > 0 (e.g. 2): undamped,
+    /// the ringing after the snap hides the return.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     damping: Real,
     /// Rod preset: `paper-sim` (E = 1.12 GPa, ν = 0.33, ρ = 1180 kg/m³, L = 1 m,
