@@ -43,7 +43,7 @@
 //! the run): without it the post-snap rod rings (implicit Euler barely damps the slow modes),
 //! leaves the static far branch before its fold and keeps its helix error above T until the
 //! ringing has decayed, so the crossing above would time the decay (3.69 against the static
-//! return 5.94 along [1,1,1] at n = 16), not the return. With ζ = 2/s the run follows the
+//! return 5.94 along (1, 1, 1) at n = 16), not the return. With ζ = 2/s the run follows the
 //! static far branch and returns just below its end (`tests/bifurcation.rs`,
 //! `damped_dynamic_unloading_follows_the_static_far_branch_and_returns_at_its_end`).
 
