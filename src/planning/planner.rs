@@ -294,6 +294,18 @@ struct Node {
     motor: Real,
 }
 
+impl Node {
+    /// The node of joints `q` (the first `q.len()` entries; the rest 0) and motor angle `motor`.
+    fn from_joints(q: &[Real], motor: Real) -> Node {
+        let mut n = Node {
+            q: [0.0; MAX_DOF],
+            motor,
+        };
+        n.q[..q.len()].copy_from_slice(q);
+        n
+    }
+}
+
 /// A planner for one rig: the robot, its collision model with the rig's scene, and the cached
 /// start rungs. `Send + Sync`; per-ray scratch lives in the calls.
 #[derive(Debug)]
@@ -568,11 +580,7 @@ impl Planner {
                 causes.add(BlockCause::JointLimit);
                 continue;
             }
-            let mut node = Node {
-                q: [0.0; MAX_DOF],
-                motor,
-            };
-            node.q[..self.dof].copy_from_slice(q);
+            let node = Node::from_joints(q, motor);
             out.push(node);
         }
         if out.is_empty() {
@@ -799,11 +807,7 @@ impl Planner {
             if self.check_config(q, &mut sc).is_err() || !self.motor_ok(motor) {
                 continue;
             }
-            let mut n = Node {
-                q: [0.0; MAX_DOF],
-                motor,
-            };
-            n.q[..self.dof].copy_from_slice(q);
+            let n = Node::from_joints(q, motor);
             nodes.push(n);
         }
         let width = self.rig.planner.redundancy_samples;
@@ -1314,11 +1318,7 @@ impl Planner {
             if !self.motor_ok(motor) {
                 continue;
             }
-            let mut n = Node {
-                q: [0.0; MAX_DOF],
-                motor,
-            };
-            n.q[..self.dof].copy_from_slice(q);
+            let n = Node::from_joints(q, motor);
             if self.edge_cost(from, &n).is_some()
                 && self.check_config(q, sc).is_ok()
                 && self.check_segment(from, &n, sc).is_ok()
@@ -1380,11 +1380,7 @@ impl Planner {
                     causes.add(c);
                     return;
                 }
-                let mut node = Node {
-                    q: [0.0; MAX_DOF],
-                    motor,
-                };
-                node.q[..self.dof].copy_from_slice(q);
+                let node = Node::from_joints(q, motor);
                 nodes.push(node);
             };
         for &i in order.iter() {
