@@ -81,8 +81,8 @@ pub fn trajectory(st: &Settings, out: &Path) -> Result<PlannedTrajectory> {
         ));
     }
     let traj = planner.trajectory(&plan)?;
-    write(out, "trajectory.csv", &traj.to_csv())?;
-    write(out, "trajectory.json", &traj.to_json())?;
+    write(out, "trajectory.csv", &traj.to_csv()?)?;
+    write(out, "trajectory.json", &traj.to_json()?)?;
     let mut limits: Vec<JointLimit> = planner
         .model()
         .joints()

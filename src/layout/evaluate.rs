@@ -28,25 +28,17 @@ use crate::layout::precheck::ReachBound;
 use crate::math::Real;
 use crate::planning::planner::{Planner, ReachClass};
 use crate::planning::rig::{Rig, RollMode};
+use crate::records::csv_out::{self, CsvRecord};
+use crate::records::layout::{RayRecord, RAY_KEY_COLUMNS};
+use crate::records::{dir_key, fmt_real};
 use crate::sweep::driver::{self, Row, SweepOptions, SweepSummary};
-use crate::sweep::reach::{fmt_real, s_star_of, BoundaryTable};
+use crate::sweep::reach::{s_star_of, BoundaryTable};
 use rayon::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
-/// Columns of `rays.csv`.
-pub const RAYS_HEADER: [&str; 10] = [
-    "candidate",
-    "dir_kappa",
-    "dir_tau",
-    "dir_omega",
-    "class",
-    "s_reached",
-    "azimuth",
-    "cause",
-    "s_star",
-    "decided_by",
-];
+/// Columns of `rays.csv` ([`RayRecord`]).
+pub const RAYS_HEADER: &[&str] = RayRecord::HEADER;
 
 /// What a placement's shared state turned out to be.
 #[derive(Debug)]
@@ -136,15 +128,11 @@ impl<'a> Sweep<'a> {
             .collect()
     }
 
-    /// The key fields of an item.
+    /// The key fields of an item (the first [`RAY_KEY_COLUMNS`] fields of its [`RayRecord`]).
     pub fn key(&self, &(c, d): &Item) -> Row {
-        let dir = &self.dirs[d];
-        vec![
-            c.to_string(),
-            fmt_real(dir.kappa),
-            fmt_real(dir.tau),
-            fmt_real(dir.omega),
-        ]
+        let mut k = vec![c.to_string()];
+        k.extend(dir_key(&self.dirs[d]));
+        k
     }
 
     fn slot(&self, c: usize) -> std::result::Result<&Slot, Error> {
@@ -172,65 +160,58 @@ impl<'a> Sweep<'a> {
             .map_err(|e| Error::invalid("candidate", c, e.clone()))
     }
 
-    /// The row of one item (columns [`RAYS_HEADER`]).
+    /// The row of one item (a [`RayRecord`]).
     pub fn row(&self, item: &Item) -> Result<Row> {
         let (c, d) = *item;
         let dir = &self.dirs[d];
         let s_star = self.s_star[d];
-        let mut row = self.key(item);
-        let mut push = |class: &str, s_reached: String, az: String, cause: &str, by: &str| {
-            row.extend([
-                class.to_string(),
+        let record = |class: &'static str,
+                      s_reached: Option<Real>,
+                      azimuth: Option<Real>,
+                      cause: &str,
+                      decided_by: &'static str|
+         -> Result<Row> {
+            csv_out::fields(&RayRecord {
+                candidate: c,
+                dir_kappa: dir.kappa,
+                dir_tau: dir.tau,
+                dir_omega: dir.omega,
+                class,
                 s_reached,
-                az,
-                cause.to_string(),
-                fmt_real(s_star),
-                by.to_string(),
-            ]);
+                azimuth,
+                cause,
+                s_star,
+                decided_by,
+            })
         };
         match self.slot(c)? {
-            Slot::OutOfReach => push(
-                "unreachable",
-                String::new(),
-                String::new(),
-                "no_ik",
-                "reach_bound",
-            ),
-            Slot::NoStart(cause) => push("blocked", "0".into(), String::new(), cause, "clamp"),
+            Slot::OutOfReach => record("unreachable", None, None, "no_ik", "reach_bound"),
+            Slot::NoStart(cause) => record("blocked", Some(0.0), None, cause, "clamp"),
             Slot::Ready(planner) => {
                 let rig = planner.rig();
                 if !s_star.is_finite() {
-                    push("partial", String::new(), String::new(), "", "no_boundary");
-                } else {
-                    let s_end = s_star * (1.0 + rig.planner.margin);
-                    if self
-                        .bound
-                        .ray_out_of_reach(rig, dir, s_end, &self.azimuths)?
-                    {
-                        push(
-                            "unreachable",
-                            String::new(),
-                            String::new(),
-                            "no_ik",
-                            "reach_bound",
-                        );
-                    } else {
-                        let p = planner.plan_best(dir, s_star, &self.azimuths, self.roll, false)?;
-                        push(
-                            p.class.as_str(),
-                            fmt_real(p.s_reached),
-                            fmt_real(p.azimuth),
-                            p.cause.map_or("", |c| c.as_str()),
-                            "planner",
-                        );
-                    }
+                    return record("partial", None, None, "", "no_boundary");
                 }
+                let s_end = s_star * (1.0 + rig.planner.margin);
+                if self
+                    .bound
+                    .ray_out_of_reach(rig, dir, s_end, &self.azimuths)?
+                {
+                    return record("unreachable", None, None, "no_ik", "reach_bound");
+                }
+                let p = planner.plan_best(dir, s_star, &self.azimuths, self.roll, false)?;
+                record(
+                    p.class.as_str(),
+                    Some(p.s_reached),
+                    Some(p.azimuth),
+                    p.cause.map_or("", |c| c.as_str()),
+                    "planner",
+                )
             }
         }
-        Ok(row)
     }
 
-    /// Run the sweep into `opts.out` (header [`RAYS_HEADER`], 4 key columns).
+    /// Run the sweep into `opts.out` (header [`RAYS_HEADER`], [`RAY_KEY_COLUMNS`] key columns).
     pub fn run(&self, opts: &SweepOptions) -> Result<SweepSummary> {
         let items = self.items();
         driver::run(&items, |i| self.key(i), |i| self.row(i), opts)
@@ -266,7 +247,7 @@ impl RayResult {
 pub fn read_rays(path: &Path, n_candidates: usize, dirs: &[Direction]) -> Result<Vec<RayResult>> {
     let mut table = crate::io::CsvInput::open(path)?;
     let hint = "a rays.csv written by `helixreach layout`";
-    let mut cols = [0usize; 10];
+    let mut cols = [0usize; RayRecord::HEADER.len()];
     for (k, name) in RAYS_HEADER.iter().enumerate() {
         cols[k] = table.column(name, hint)?;
     }
@@ -277,7 +258,7 @@ pub fn read_rays(path: &Path, n_candidates: usize, dirs: &[Direction]) -> Result
         let rec = rec.map_err(|e| bad("record", e.to_string()))?;
         let (c, d) = (k / dirs.len().max(1), k % dirs.len().max(1));
         let field = |i: usize| rec.get(cols[i]).unwrap_or("");
-        let expect = [
+        let expect: [String; RAY_KEY_COLUMNS] = [
             c.to_string(),
             fmt_real(dirs.get(d).map_or(Real::NAN, |x| x.kappa)),
             fmt_real(dirs.get(d).map_or(Real::NAN, |x| x.tau)),

@@ -365,7 +365,11 @@ pub fn run(
 
     let rays_path = out_dir.join("rays.csv");
     let sweep = Sweep::new(&rig, &cands, dirs, table, roll, azimuths.clone())?;
-    let mut so = SweepOptions::new(&rays_path, &RAYS_HEADER, 4);
+    let mut so = SweepOptions::new(
+        &rays_path,
+        RAYS_HEADER,
+        crate::records::layout::RAY_KEY_COLUMNS,
+    );
     so.resume = control.resume;
     so.force = control.force;
     so.shard = control.shard;

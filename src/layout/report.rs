@@ -1,4 +1,5 @@
-//! The output files of a layout run (all written atomically into the output directory):
+//! The output files of a layout run (all written atomically into the output directory; the CSV
+//! rows are the records of [`crate::records::layout`]):
 //!
 //! | file | columns / content |
 //! |---|---|
@@ -14,25 +15,17 @@ use super::evaluate::RayResult;
 use super::precheck::ReachBound;
 use super::LayoutReport;
 use crate::directions::Direction;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::io::write_atomic;
 use crate::math::{Real, DEG};
 use crate::planning::rig::Rig;
 #[cfg(feature = "plots")]
 use crate::plot::{layout_coverage, layout_directions, layout_heatmap};
-use crate::sweep::reach::fmt_real;
+use crate::records::csv_out::to_csv;
+use crate::records::layout::{
+    AssignmentRecord, CandidateRecord, CoverageRecord, PlacementRecord, ReferenceRecord,
+};
 use std::path::Path;
-
-fn csv_bytes(header: &[&str], rows: &[Vec<String>]) -> Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let ser = |e: csv::Error| Error::invalid("row", "", e.to_string());
-    w.write_record(header).map_err(ser)?;
-    for r in rows {
-        w.write_record(r).map_err(ser)?;
-    }
-    w.into_inner()
-        .map_err(|e| Error::invalid("row", "", e.to_string()))
-}
 
 fn class_rank(c: &str) -> u8 {
     match c {
@@ -54,57 +47,39 @@ pub fn write_all(
     dir: &Path,
 ) -> Result<()> {
     let nd = report.n_dirs;
-    let frac = |n: usize| fmt_real(n as Real / nd.max(1) as Real);
+    let frac = |n: usize| n as Real / nd.max(1) as Real;
     let rc = rig.clamp_rotation();
 
+    let write = |name: &str, text: String| write_atomic(&dir.join(name), text.as_bytes());
+
     // candidates.csv
-    let rows: Vec<Vec<String>> = report
+    let rows: Vec<CandidateRecord> = report
         .candidates
         .iter()
         .enumerate()
         .map(|(i, c)| {
             let d3 = c.d3(&rc);
-            vec![
-                i.to_string(),
-                fmt_real(c.origin[0]),
-                fmt_real(c.origin[1]),
-                fmt_real(c.origin[2]),
-                fmt_real(c.tilt / DEG),
-                fmt_real(c.heading / DEG),
-                fmt_real(d3.x),
-                fmt_real(d3.y),
-                fmt_real(d3.z),
-                if i < report.n_grid {
+            CandidateRecord {
+                candidate: i,
+                x: c.origin[0],
+                y: c.origin[1],
+                z: c.origin[2],
+                tilt_deg: c.tilt / DEG,
+                heading_deg: c.heading / DEG,
+                d3_x: d3.x,
+                d3_y: d3.y,
+                d3_z: d3.z,
+                kind: if i < report.n_grid {
                     "grid"
                 } else {
                     "reference"
-                }
-                .to_string(),
-                report.covered[i].to_string(),
-                frac(report.covered[i]),
-            ]
+                },
+                covered: report.covered[i],
+                fraction: frac(report.covered[i]),
+            }
         })
         .collect();
-    write_atomic(
-        &dir.join("candidates.csv"),
-        &csv_bytes(
-            &[
-                "candidate",
-                "x",
-                "y",
-                "z",
-                "tilt_deg",
-                "heading_deg",
-                "d3_x",
-                "d3_y",
-                "d3_z",
-                "kind",
-                "covered",
-                "fraction",
-            ],
-            &rows,
-        )?,
-    )?;
+    write("candidates.csv", to_csv(&rows)?)?;
 
     // placement rigs + placements.csv
     let mut rows = Vec::new();
@@ -120,156 +95,109 @@ pub fn write_all(
             nd
         );
         write_atomic(&dir.join(&p.rig_file), placed.to_toml()?.as_bytes())?;
-        rows.push(vec![
-            (rank + 1).to_string(),
-            p.candidate.to_string(),
-            fmt_real(p.pose.origin[0]),
-            fmt_real(p.pose.origin[1]),
-            fmt_real(p.pose.origin[2]),
-            fmt_real(p.pose.tilt / DEG),
-            fmt_real(p.pose.heading / DEG),
-            p.covered.to_string(),
-            p.new.to_string(),
-            p.cumulative.to_string(),
-            frac(p.cumulative),
-            p.rig_file.display().to_string(),
-        ]);
+        rows.push(PlacementRecord {
+            placement: rank + 1,
+            candidate: p.candidate,
+            x: p.pose.origin[0],
+            y: p.pose.origin[1],
+            z: p.pose.origin[2],
+            tilt_deg: p.pose.tilt / DEG,
+            heading_deg: p.pose.heading / DEG,
+            covered: p.covered,
+            new: p.new,
+            cumulative: p.cumulative,
+            cumulative_fraction: frac(p.cumulative),
+            rig_file: p.rig_file.display().to_string(),
+        });
     }
-    write_atomic(
-        &dir.join("placements.csv"),
-        &csv_bytes(
-            &[
-                "placement",
-                "candidate",
-                "x",
-                "y",
-                "z",
-                "tilt_deg",
-                "heading_deg",
-                "covered",
-                "new",
-                "cumulative",
-                "cumulative_fraction",
-                "rig_file",
-            ],
-            &rows,
-        )?,
-    )?;
+    write("placements.csv", to_csv(&rows)?)?;
 
     // assignment.csv
-    let mut rows = Vec::new();
-    for (d, a) in report.assignment.iter().enumerate() {
-        let dirv = &dirs[d];
-        let mut row = vec![
-            fmt_real(dirv.kappa),
-            fmt_real(dirv.tau),
-            fmt_real(dirv.omega),
-        ];
-        match a {
-            Some((rank, r)) => row.extend([
-                (rank + 1).to_string(),
-                fmt_real(r.azimuth),
-                r.class.clone(),
-                fmt_real(r.s_reached),
-            ]),
-            None => {
-                // The best answer any placement gave (class, then s reached).
-                let best = report
-                    .placements
-                    .iter()
-                    .map(|p| &rays[p.candidate * nd + d])
-                    .max_by(|a, b| {
-                        class_rank(&a.class).cmp(&class_rank(&b.class)).then(
-                            a.s_reached
-                                .partial_cmp(&b.s_reached)
-                                .unwrap_or(std::cmp::Ordering::Equal),
-                        )
-                    });
-                row.extend([
-                    String::new(),
-                    String::new(),
-                    best.map_or("unreachable".into(), |b| b.class.clone()),
-                    best.filter(|b| b.s_reached.is_finite())
-                        .map_or(String::new(), |b| fmt_real(b.s_reached)),
-                ]);
-            }
-        }
-        rows.push(row);
-    }
-    write_atomic(
-        &dir.join("assignment.csv"),
-        &csv_bytes(
-            &[
-                "dir_kappa",
-                "dir_tau",
-                "dir_omega",
-                "placement",
-                "azimuth",
-                "class",
-                "s_reached",
-            ],
-            &rows,
-        )?,
-    )?;
-
-    // coverage.csv
-    let rows: Vec<Vec<String>> = report
-        .by_k
+    let rows: Vec<AssignmentRecord> = report
+        .assignment
         .iter()
-        .map(|c| {
-            vec![
-                c.k.to_string(),
-                c.greedy.covered.to_string(),
-                c.exact.covered.to_string(),
-                c.exact.proven.to_string(),
-                c.exact.nodes.to_string(),
-                nd.to_string(),
-            ]
+        .enumerate()
+        .map(|(d, a)| {
+            let dirv = &dirs[d];
+            let (placement, azimuth, class, s_reached) = match a {
+                Some((rank, r)) => (
+                    Some(rank + 1),
+                    Some(r.azimuth),
+                    r.class.clone(),
+                    Some(r.s_reached),
+                ),
+                None => {
+                    // The best answer any placement gave (class, then s reached).
+                    let best = report
+                        .placements
+                        .iter()
+                        .map(|p| &rays[p.candidate * nd + d])
+                        .max_by(|a, b| {
+                            class_rank(&a.class).cmp(&class_rank(&b.class)).then(
+                                a.s_reached
+                                    .partial_cmp(&b.s_reached)
+                                    .unwrap_or(std::cmp::Ordering::Equal),
+                            )
+                        });
+                    (
+                        None,
+                        None,
+                        best.map_or("unreachable".into(), |b| b.class.clone()),
+                        best.map(|b| b.s_reached).filter(|s| s.is_finite()),
+                    )
+                }
+            };
+            AssignmentRecord {
+                dir_kappa: dirv.kappa,
+                dir_tau: dirv.tau,
+                dir_omega: dirv.omega,
+                placement,
+                azimuth,
+                class,
+                s_reached,
+            }
         })
         .collect();
-    write_atomic(
-        &dir.join("coverage.csv"),
-        &csv_bytes(
-            &[
-                "k",
-                "greedy",
-                "exact",
-                "exact_proven",
-                "exact_nodes",
-                "total",
-            ],
-            &rows,
-        )?,
-    )?;
+    write("assignment.csv", to_csv(&rows)?)?;
+
+    // coverage.csv
+    let rows: Vec<CoverageRecord> = report
+        .by_k
+        .iter()
+        .map(|c| CoverageRecord {
+            k: c.k,
+            greedy: c.greedy.covered,
+            exact: c.exact.covered,
+            exact_proven: c.exact.proven,
+            exact_nodes: c.exact.nodes,
+            total: nd,
+        })
+        .collect();
+    write("coverage.csv", to_csv(&rows)?)?;
 
     // reference.csv
     if let Some(r) = &report.reference {
         let mut rows = vec![
-            vec![
-                "reference_own_position".to_string(),
-                r.positions.to_string(),
-                r.own.to_string(),
-                r.own_total.to_string(),
-            ],
-            vec![
-                "reference_union".to_string(),
-                r.positions.to_string(),
-                r.union.to_string(),
-                nd.to_string(),
-            ],
+            ReferenceRecord {
+                set: "reference_own_position",
+                placements: r.positions,
+                covered: r.own,
+                total: r.own_total,
+            },
+            ReferenceRecord {
+                set: "reference_union",
+                placements: r.positions,
+                covered: r.union,
+                total: nd,
+            },
         ];
-        for c in &report.by_k {
-            rows.push(vec![
-                "layout_best".to_string(),
-                c.k.to_string(),
-                c.exact.covered.max(c.greedy.covered).to_string(),
-                nd.to_string(),
-            ]);
-        }
-        write_atomic(
-            &dir.join("reference.csv"),
-            &csv_bytes(&["set", "placements", "covered", "total"], &rows)?,
-        )?;
+        rows.extend(report.by_k.iter().map(|c| ReferenceRecord {
+            set: "layout_best",
+            placements: c.k,
+            covered: c.exact.covered.max(c.greedy.covered),
+            total: nd,
+        }));
+        write("reference.csv", to_csv(&rows)?)?;
     }
 
     // Figures (feature `plots`; the core build writes the CSVs only).

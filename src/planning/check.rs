@@ -43,6 +43,7 @@ use crate::helix::Helix;
 use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
 use crate::planning::pose_path::PoseMap;
 use crate::planning::rig::{iso_from, tool_from_director, Rig};
+use crate::records::trajectory::{joint_column, MOTOR_COLUMN};
 use crate::robot::collision::{BodyRef, Contact};
 use crate::robot::{CollisionModel, CollisionWorkspace, Frame, RobotModel};
 use std::fmt::Write as _;
@@ -137,7 +138,7 @@ impl JointFile {
             content.next();
             let find = |name: &str| first_fields.iter().position(|h| h == name);
             let by_name: Option<Vec<usize>> = joint_names.iter().map(|n| find(n)).collect();
-            let by_q: Option<Vec<usize>> = (0..dof).map(|j| find(&format!("q{j}"))).collect();
+            let by_q: Option<Vec<usize>> = (0..dof).map(|j| find(&joint_column(j))).collect();
             let (cols, format) = match (by_name, by_q) {
                 (Some(c), _) => (c, "csv header: joint names"),
                 (None, Some(c)) => (c, "csv header: q0.."),
@@ -153,7 +154,7 @@ impl JointFile {
                     ))
                 }
             };
-            (cols, find("motor"), first_fields.len(), format)
+            (cols, find(MOTOR_COLUMN), first_fields.len(), format)
         } else {
             let format = if comma { "csv" } else { "whitespace" };
             ((0..dof).collect(), None, dof, format)
@@ -200,7 +201,7 @@ impl JointFile {
                 q.push(num(c, &joint_names[j])?);
             }
             if let (Some(c), Some(m)) = (motor_col, motor.as_mut()) {
-                m.push(num(c, "motor")?);
+                m.push(num(c, MOTOR_COLUMN)?);
             }
             lines.push(line);
         }

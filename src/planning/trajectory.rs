@@ -21,7 +21,7 @@
 //! The velocity stored at a waypoint is the mean of its two adjacent segment velocities (zero at
 //! both ends): a convex combination of in-limit values, hence in limit too.
 //!
-//! # Outputs
+//! # Outputs (written by [`crate::records::trajectory`])
 //! - CSV: `t,q0..q{n-1},motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`; the pose is the tool
 //!   frame in the robot base frame, the quaternion scalar first; `phase` is one of `load`,
 //!   `reconfigure`, `hold`, `unload`.
@@ -31,7 +31,6 @@
 
 use crate::error::{Error, Result};
 use crate::math::{rotation_angle, Iso3, Real};
-use std::fmt::Write as _;
 
 /// The phase of a trajectory sample (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -238,73 +237,16 @@ impl Trajectory {
             .collect()
     }
 
-    /// The CSV text (header + one row per point), full precision.
-    pub fn to_csv(&self) -> String {
-        let dof = self
-            .points
-            .first()
-            .map_or(self.joint_names.len(), |p| p.q.len());
-        let mut s = String::from("t");
-        for j in 0..dof {
-            let _ = write!(s, ",q{j}");
-        }
-        s.push_str(",motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase\n");
-        for p in &self.points {
-            let _ = write!(s, "{}", p.t);
-            for q in &p.q {
-                let _ = write!(s, ",{q}");
-            }
-            let tr = p.pose.translation.vector;
-            let r = p.pose.rotation.quaternion();
-            let _ = writeln!(
-                s,
-                ",{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                p.motor,
-                p.s,
-                p.kto[0],
-                p.kto[1],
-                p.kto[2],
-                tr.x,
-                tr.y,
-                tr.z,
-                r.w,
-                r.i,
-                r.j,
-                r.k,
-                p.phase
-            );
-        }
-        s
+    /// The CSV text (header + one row per point), full precision:
+    /// [`crate::records::trajectory::trajectory_csv`].
+    pub fn to_csv(&self) -> Result<String> {
+        crate::records::trajectory::trajectory_csv(self)
     }
 
-    /// The JSON text shaped like ROS `trajectory_msgs/JointTrajectory` (motor as the last joint).
-    pub fn to_json(&self) -> String {
-        let vel = self.velocities();
-        let mut names = self.joint_names.clone();
-        names.push(self.motor_name.clone());
-        let points: Vec<serde_json::Value> = self
-            .points
-            .iter()
-            .zip(vel)
-            .map(|(p, v)| {
-                let mut pos = p.q.clone();
-                pos.push(p.motor);
-                let secs = p.t.floor();
-                let nsecs = ((p.t - secs) * 1e9).round().min(999_999_999.0);
-                serde_json::json!({
-                    "positions": pos,
-                    "velocities": v,
-                    "time_from_start": {"secs": secs as i64, "nsecs": nsecs as i64},
-                    "phase": p.phase.as_str(),
-                })
-            })
-            .collect();
-        let doc = serde_json::json!({
-            "header": {"frame_id": self.frame_id},
-            "joint_names": names,
-            "points": points,
-        });
-        serde_json::to_string_pretty(&doc).unwrap_or_default()
+    /// The JSON text shaped like ROS `trajectory_msgs/JointTrajectory` (motor as the last joint):
+    /// [`crate::records::trajectory::trajectory_json`].
+    pub fn to_json(&self) -> Result<String> {
+        crate::records::trajectory::trajectory_json(self)
     }
 
     /// Total duration (s).
@@ -366,11 +308,11 @@ mod tests {
                 v[0].abs() <= 1.0 + 1e-12 && v[1].abs() <= 2.0 + 1e-12 && v[2].abs() <= 3.0 + 1e-12
             );
         }
-        let csv = traj.to_csv();
+        let csv = traj.to_csv().unwrap();
         assert!(csv.starts_with("t,q0,q1,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase\n"));
         assert!(csv.lines().nth(1).unwrap().ends_with(",load"));
         assert_eq!(csv.lines().count(), 7);
-        let json: serde_json::Value = serde_json::from_str(&traj.to_json()).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&traj.to_json().unwrap()).unwrap();
         assert_eq!(json["joint_names"][2], "rod_motor");
         assert_eq!(json["points"][5]["time_from_start"]["secs"], 8);
         assert!(

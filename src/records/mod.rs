@@ -12,18 +12,21 @@
 //! | [`read_reach`] | `helixreach reach` | `dir_kappa,dir_tau,dir_omega,s_star,s_reached,class,cause` (`roll_mode` optional) |
 //! | [`read_series`] | `helixreach simulate` | `s,error` (`t` optional) |
 //! | [`read_speed_error`] | benches / `demo` | `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` |
-//! | [`read_trajectory`] | `helixreach plan` | `s,q0..qN` (consecutive from `q0`), `motor` optional |
+//! | [`read_trajectory`] | `helixreach plan` ([`trajectory`]) | `s,q0..qN` (consecutive from `q0`), `motor` optional |
 //! | [`read_joint_limits`] | user / `demo` | `joint,lower,upper` |
 
 pub mod bifurcation;
 pub mod compare;
 pub mod csv_out;
+pub mod layout;
 pub mod series;
+pub mod trajectory;
 
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::Real;
 use std::path::{Path, PathBuf};
+use trajectory::{joint_column, MOTOR_COLUMN};
 
 /// One direction of a boundary CSV: where the ray S̄ leaves the stable set.
 #[derive(Debug, Clone, PartialEq)]
@@ -481,14 +484,17 @@ pub fn read_trajectory(path: &Path) -> Result<Vec<TrajectoryRow>> {
     let t = Table::read(path)?;
     let is = t.col("s")?;
     let mut iq = Vec::new();
-    while t.has(&format!("q{}", iq.len())) {
-        iq.push(t.col(&format!("q{}", iq.len()))?);
+    while t.has(&joint_column(iq.len())) {
+        iq.push(t.col(&joint_column(iq.len()))?);
     }
     if iq.is_empty() {
         return Err(t.col("q0").unwrap_err());
     }
     let it = t.has("t").then(|| t.col("t")).transpose()?;
-    let imo = t.has("motor").then(|| t.col("motor")).transpose()?;
+    let imo = t
+        .has(MOTOR_COLUMN)
+        .then(|| t.col(MOTOR_COLUMN))
+        .transpose()?;
     (0..t.rows.len())
         .map(|r| {
             Ok(TrajectoryRow {
@@ -500,10 +506,10 @@ pub fn read_trajectory(path: &Path) -> Result<Vec<TrajectoryRow>> {
                 q: iq
                     .iter()
                     .enumerate()
-                    .map(|(j, &c)| t.real(r, c, &format!("q{j}"), false))
+                    .map(|(j, &c)| t.real(r, c, &joint_column(j), false))
                     .collect::<Result<_>>()?,
                 motor: match imo {
-                    Some(c) => t.real(r, c, "motor", false)?,
+                    Some(c) => t.real(r, c, MOTOR_COLUMN, false)?,
                     None => Real::NAN,
                 },
             })

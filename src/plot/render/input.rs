@@ -27,6 +27,7 @@
 use crate::error::{Error, Result};
 use crate::io::{bad_line, parse_field, CsvInput};
 use crate::math::{Real, Vec3};
+use crate::records::trajectory::{joint_column, MOTOR_COLUMN};
 use std::path::Path;
 
 /// Largest distance (m) between a row's rod end and the helix end on the rig, and between the
@@ -69,7 +70,7 @@ pub fn read_trajectory(path: &Path, joint_names: &[String], robot: &str) -> Resu
     let mut csv = CsvInput::open(path)?;
     let dof = joint_names.len();
     let mut iq = Vec::new();
-    while let Ok(c) = csv.column(&format!("q{}", iq.len()), "") {
+    while let Ok(c) = csv.column(&joint_column(iq.len()), "") {
         iq.push(c);
     }
     if iq.len() != dof {
@@ -90,7 +91,7 @@ pub fn read_trajectory(path: &Path, joint_names: &[String], robot: &str) -> Resu
     ];
     let opt = |n: &str| csv.column(n, "").ok();
     let it = opt("t");
-    let im = opt("motor");
+    let im = opt(MOTOR_COLUMN);
     let ia = opt("azimuth");
     let iph = opt("phase");
     let ixyz = match (opt("x"), opt("y"), opt("z")) {
@@ -122,7 +123,7 @@ pub fn read_trajectory(path: &Path, joint_names: &[String], robot: &str) -> Resu
         let q = iq
             .iter()
             .enumerate()
-            .map(|(j, &c)| num(c, &format!("q{j}")))
+            .map(|(j, &c)| num(c, &joint_column(j)))
             .collect::<Result<Vec<_>>>()?;
         let t = match it {
             Some(c) => num(c, "t")?,
@@ -168,7 +169,7 @@ pub fn read_trajectory(path: &Path, joint_names: &[String], robot: &str) -> Resu
             t,
             q,
             motor: match im {
-                Some(c) => num(c, "motor")?,
+                Some(c) => num(c, MOTOR_COLUMN)?,
                 None => Real::NAN,
             },
             s,

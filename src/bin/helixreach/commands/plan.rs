@@ -119,10 +119,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let dt = t0.elapsed().as_secs_f64();
     let traj = planner.trajectory(&plan)?;
     let assumed = plan.assumed_type.map_or("any", |t| t.name());
-    helixreach::io::write_atomic(&args.out, traj.to_csv().as_bytes())?;
+    helixreach::io::write_atomic(&args.out, traj.to_csv()?.as_bytes())?;
     if let Some(j) = &args.json {
         // The ROS-shaped trajectory plus what the ray was planned for.
-        let mut doc: serde_json::Value = serde_json::from_str(&traj.to_json())?;
+        let mut doc: serde_json::Value = serde_json::from_str(&traj.to_json()?)?;
         doc["ray"] = serde_json::json!({
             "dir": [dir.kappa, dir.tau, dir.omega],
             "s_star": plan.s_star,
