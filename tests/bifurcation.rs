@@ -429,7 +429,7 @@ fn a_supercritical_ray_is_planned_to_its_own_margin_and_says_so() {
             (p.s_end / (s_star * (1.0 + margin)) - 1.0).abs() < 1e-12,
             "{p:?}"
         );
-        let row = helixreach::sweep::reach::reach_row(&p);
+        let row = helixreach::sweep::reach::reach_row(&p).unwrap();
         assert_eq!(row.last().unwrap(), want.name());
         // Type not known: the larger margin, which covers any type.
         let u = typed
@@ -445,7 +445,10 @@ fn a_supercritical_ray_is_planned_to_its_own_margin_and_says_so() {
         );
         assert!((q.s_end / (s_star * 1.1) - 1.0).abs() < 1e-12, "{q:?}");
         assert_eq!(
-            helixreach::sweep::reach::reach_row(&q).last().unwrap(),
+            helixreach::sweep::reach::reach_row(&q)
+                .unwrap()
+                .last()
+                .unwrap(),
             "any"
         );
     }

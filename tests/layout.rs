@@ -221,7 +221,7 @@ fn layout_coverage_equals_reach_at_the_written_rigs() {
             &dirs,
             None,
             &ro,
-            &SweepOptions::new(&csv, &REACH_HEADER, 3),
+            &SweepOptions::new(&csv, REACH_HEADER, 3),
         )
         .unwrap();
         let text = read(&csv);

@@ -337,7 +337,7 @@ fn unreachable_direction_is_a_blocked_row_not_an_error() {
     assert_eq!(plan.class, ReachClass::Blocked);
     assert_eq!(plan.cause.map(|c| c.as_str()), Some("joint_limit"));
     assert_eq!(plan.s_reached, 0.0);
-    let row = helixreach::sweep::reach::reach_row(&plan);
+    let row = helixreach::sweep::reach::reach_row(&plan).unwrap();
     assert_eq!(row[5], "blocked");
     assert_eq!(row[6], "joint_limit");
 }
@@ -418,7 +418,7 @@ fn sweep_is_identical_for_one_and_two_threads() {
     let mut outs = Vec::new();
     for threads in [1, 2] {
         let out = dir.path().join(format!("reach{threads}.csv"));
-        let sweep = SweepOptions::new(&out, &REACH_HEADER, 3);
+        let sweep = SweepOptions::new(&out, REACH_HEADER, 3);
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()

@@ -6,10 +6,10 @@ use crate::boundary::continuum;
 use crate::boundary::der::{self, DerBoundaryParams};
 use crate::directions::{fibonacci, Direction};
 use crate::error::Result;
-use crate::records::{self, BoundaryRow, SpeedErrorRow};
+use crate::records::boundary::{BoundaryRecord, DerCheckRecord};
+use crate::records::{csv_out, BoundaryRow, SpeedErrorRow};
 use rayon::prelude::*;
 use serde::Serialize;
-use std::fmt::Write as _;
 use std::time::Instant;
 
 /// One tolerance of the continuum speed-versus-error sweep.
@@ -81,13 +81,13 @@ fn solve(dirs: &[Direction], tol: f64) -> Vec<(f64, f64, f64)> {
 }
 
 /// The boundary CSV of `rows` with their error estimates (the record layer's columns and row).
-fn boundary_csv(rows: &[BoundaryRow], est: &[f64]) -> String {
-    let mut s = records::BOUNDARY_HEADER.join(",") + "\n";
-    for (r, e) in rows.iter().zip(est) {
-        let row = records::boundary_row(&r.dir, r.s_star, &r.method, &r.resolution, *e);
-        let _ = writeln!(s, "{}", row.join(","));
-    }
-    s
+fn boundary_csv(rows: &[BoundaryRow], est: &[f64]) -> Result<String> {
+    let records: Vec<BoundaryRecord<'_>> = rows
+        .iter()
+        .zip(est)
+        .map(|(r, e)| BoundaryRecord::new(&r.dir, r.s_star, &r.method, &r.resolution, *e))
+        .collect();
+    csv_out::to_csv(&records)
 }
 
 /// Stage 1: the continuum boundary on the Fibonacci half-sphere and the ω = 0 fan (written to
@@ -122,7 +122,7 @@ pub fn continuum_survey(
     let wall = t.elapsed().as_secs_f64();
     let failed = res.iter().filter(|r| r.0.is_nan()).count();
     let (rows, est) = to_rows(&half, &res);
-    write(out, "boundary.csv", &boundary_csv(&rows, &est))?;
+    write(out, "boundary.csv", &boundary_csv(&rows, &est)?)?;
     log.say(
         "continuum boundary",
         format!("{} directions in {wall:.2} s ({failed} failed)", half.len()),
@@ -130,7 +130,7 @@ pub fn continuum_survey(
     let fan_dirs = omega0_fan(st.fan_directions);
     let fres = solve(&fan_dirs, st.continuum_tol_rel);
     let (fan, fest) = to_rows(&fan_dirs, &fres);
-    write(out, "boundary_omega0.csv", &boundary_csv(&fan, &fest))?;
+    write(out, "boundary_omega0.csv", &boundary_csv(&fan, &fest)?)?;
 
     // Checks against closed forms: the κ axis (2π) and the ω axis (2·x₁, tan x₁ = x₁).
     let axis = |k, t, w| -> Result<f64> {
@@ -257,9 +257,7 @@ pub fn der_check(
         .take(st.der_sample)
         .copied()
         .collect();
-    let mut csv = String::from(
-        "dir_kappa,dir_tau,dir_omega,s_star_continuum,n_edges,s_star_der,rel_diff,seconds\n",
-    );
+    let mut check_rows = Vec::new();
     let mut ns = st.der_n_sweep.clone();
     if !ns.contains(&st.der_n_edges) {
         ns.push(st.der_n_edges);
@@ -297,11 +295,16 @@ pub fn der_check(
                 fails += 1;
             }
             cpu += secs;
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{n},{s},{d},{secs}",
-                r.dir.kappa, r.dir.tau, r.dir.omega, r.s_star
-            );
+            check_rows.push(DerCheckRecord {
+                dir_kappa: r.dir.kappa,
+                dir_tau: r.dir.tau,
+                dir_omega: r.dir.omega,
+                s_star_continuum: r.s_star,
+                n_edges: n,
+                s_star_der: *s,
+                rel_diff: d,
+                seconds: *secs,
+            });
         }
         let (_, med, max) = stats(&rel);
         let per_dir = cpu / sample.len() as f64;
@@ -331,7 +334,7 @@ pub fn der_check(
             wall_seconds: wall,
         });
     }
-    write(out, "der_check.csv", &csv)?;
+    write(out, "der_check.csv", &csv_out::to_csv(&check_rows)?)?;
     let at = sweep
         .iter()
         .find(|r| r.n_edges == st.der_n_edges)

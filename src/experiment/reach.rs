@@ -88,7 +88,7 @@ fn sweep(
     path: &Path,
     resume: bool,
 ) -> Result<(Vec<ReachRow>, String)> {
-    let mut so = SweepOptions::new(path, &REACH_HEADER, 3);
+    let mut so = SweepOptions::new(path, REACH_HEADER, 3);
     // A rerun of the study replaces its earlier sweeps (only once each is complete), unless it
     // resumes them; resume refuses rows made with other settings (the driver's record).
     so.resume = resume;

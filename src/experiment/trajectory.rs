@@ -8,7 +8,6 @@ use crate::planning::planner::{Planner, RayPlan, ReachClass};
 use crate::planning::rig::{Rig, RollMode};
 use crate::records::{JointLimit, TrajectoryRow};
 use serde::Serialize;
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// Outcome of [`trajectory`].
@@ -100,11 +99,11 @@ pub fn trajectory(st: &Settings, out: &Path) -> Result<PlannedTrajectory> {
             upper: rig.motor.range.1,
         });
     }
-    let mut lcsv = String::from("joint,lower,upper\n");
-    for l in &limits {
-        let _ = writeln!(lcsv, "{},{},{}", l.name, l.lower, l.upper);
-    }
-    write(out, "joint_limits.csv", &lcsv)?;
+    write(
+        out,
+        "joint_limits.csv",
+        &crate::records::csv_out::to_csv(&limits)?,
+    )?;
     let rows: Vec<TrajectoryRow> = traj
         .points
         .iter()

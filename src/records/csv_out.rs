@@ -5,7 +5,8 @@
 //! ([`CsvRecord::HEADER`] names them; a test checks the names against the serde field names).
 //! Real numbers are written by [`fmt_real`] (the shortest text that reads back to the same
 //! `f64`; `inf`, `-inf`, `NaN`) through the field adapters [`real`], [`real_or_empty`] (NaN →
-//! empty field) and [`opt_real`] (`None` → empty field). Text fields are quoted only when they
+//! empty field), [`opt_real`] (`None` → empty field) and, for error estimates, [`real_exp`]
+//! (exponent notation). Text fields are quoted only when they
 //! hold a comma, a quote or a line break (RFC 4180, the `csv` crate's rule), so every file
 //! reads back with any CSV reader.
 //!
@@ -100,6 +101,11 @@ pub fn real<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, 
     s.collect_str(&fmt_real(*x))
 }
 
+/// Field adapter: a real in exponent notation (`1.5e-9`, `0e0`), for error estimates.
+pub fn real_exp<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("{x:e}"))
+}
+
 /// Field adapter: a real by [`fmt_real`], NaN (not computed) as an empty field.
 pub fn real_or_empty<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, S::Error> {
     if x.is_nan() {
@@ -187,6 +193,27 @@ mod tests {
             hysteresis: Real::NAN,
             resolution: "n=30".into(),
             reason: "Newton failed, at s = 7.1".into(),
+        });
+        header_matches(&crate::records::JointLimit {
+            name: "right_j0".into(),
+            lower: -3.05,
+            upper: 3.05,
+        });
+        header_matches(&crate::records::reach::ReachRecord {
+            dir_kappa: 0.6,
+            dir_tau: 0.8,
+            dir_omega: 0.0,
+            s_star: 7.1,
+            s_reached: 7.8,
+            class: "testable",
+            cause: "",
+            azimuth: 0.0,
+            roll_mode: "fixed",
+            n_waypoints: 194,
+            path_cost: 8.5,
+            max_joint_step: 0.05,
+            reconfigurations: 0,
+            bifurcation: "any",
         });
     }
 

@@ -16,15 +16,18 @@
 //! | [`read_joint_limits`] | user / `demo` | `joint,lower,upper` |
 
 pub mod bifurcation;
+pub mod boundary;
 pub mod compare;
 pub mod csv_out;
 pub mod layout;
+pub mod reach;
 pub mod series;
 pub mod trajectory;
 
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::Real;
+use csv_out::CsvRecord;
 use std::path::{Path, PathBuf};
 use trajectory::{joint_column, MOTOR_COLUMN};
 
@@ -55,53 +58,26 @@ pub fn fmt_real(x: Real) -> String {
     format!("{x}")
 }
 
-/// Columns of a boundary CSV (`helixreach boundary`, the demo's `boundary.csv`).
-pub const BOUNDARY_HEADER: [&str; 10] = [
-    "dir_kappa",
-    "dir_tau",
-    "dir_omega",
-    "s_star",
-    "kappa",
-    "tau",
-    "omega",
-    "method",
-    "resolution",
-    "est_error",
-];
+/// Columns of a boundary CSV ([`boundary::BoundaryRecord`]).
+pub const BOUNDARY_HEADER: &[&str] = boundary::BoundaryRecord::HEADER;
 
-/// Columns of a reachability CSV (`helixreach reach`, the demo's `reach_*.csv`; the last,
-/// `bifurcation`, is the type the margin past s* was chosen for, see
-/// [`crate::sweep::reach`]).
-pub const REACH_HEADER: [&str; 14] = [
-    "dir_kappa",
-    "dir_tau",
-    "dir_omega",
-    "s_star",
-    "s_reached",
-    "class",
-    "cause",
-    "azimuth",
-    "roll_mode",
-    "n_waypoints",
-    "path_cost",
-    "max_joint_step",
-    "reconfigurations",
-    "bifurcation",
-];
+/// Columns of a reachability CSV ([`reach::ReachRecord`]).
+pub const REACH_HEADER: &[&str] = reach::ReachRecord::HEADER;
 
 /// The key columns of a direction (`dir_kappa,dir_tau,dir_omega`).
 pub fn dir_key(d: &Direction) -> Vec<String> {
     vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)]
 }
 
-/// One boundary row (columns [`BOUNDARY_HEADER`]): the boundary point is `s*·S̄` with
-/// `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
+/// One boundary row as fields (a [`boundary::BoundaryRecord`]): the boundary point is `s*·S̄`
+/// with `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
 ///
 /// ```
 /// use helixreach::{directions::Direction, records::boundary_row};
 /// let d = Direction::new(1.0, 0.0, 0.0).unwrap();
-/// let r = boundary_row(&d, f64::INFINITY, "continuum", "1e-10", 0.0);
+/// let r = boundary_row(&d, f64::INFINITY, "continuum", "1e-10", 0.0)?;
 /// assert_eq!(r[3..7], ["inf", "inf", "0", "0"]);
+/// # Ok::<(), helixreach::Error>(())
 /// ```
 pub fn boundary_row(
     d: &Direction,
@@ -109,19 +85,10 @@ pub fn boundary_row(
     method: &str,
     resolution: &str,
     est_error: Real,
-) -> Vec<String> {
-    let scaled = |c: Real| if c == 0.0 { 0.0 } else { s_star * c };
-    let mut v = dir_key(d);
-    v.extend([
-        fmt_real(s_star),
-        fmt_real(scaled(d.kappa)),
-        fmt_real(scaled(d.tau)),
-        fmt_real(scaled(d.omega)),
-        method.to_string(),
-        resolution.to_string(),
-        format!("{est_error:e}"),
-    ]);
-    v
+) -> Result<Vec<String>> {
+    csv_out::fields(&boundary::BoundaryRecord::new(
+        d, s_star, method, resolution, est_error,
+    ))
 }
 
 pub use crate::planning::ladder::BlockCause;
@@ -226,15 +193,23 @@ pub struct TrajectoryRow {
     pub motor: Real,
 }
 
-/// Limits of one joint (rad).
-#[derive(Debug, Clone, PartialEq)]
+/// Limits of one joint (rad): a row of a joint-limits CSV (`joint,lower,upper`, the demo's
+/// `joint_limits.csv`), read by [`read_joint_limits`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct JointLimit {
     /// Joint name.
+    #[serde(rename = "joint")]
     pub name: String,
     /// Lower limit (rad).
+    #[serde(serialize_with = "csv_out::real")]
     pub lower: Real,
     /// Upper limit (rad).
+    #[serde(serialize_with = "csv_out::real")]
     pub upper: Real,
+}
+
+impl CsvRecord for JointLimit {
+    const HEADER: &'static [&'static str] = &["joint", "lower", "upper"];
 }
 
 /// A CSV file held in memory with header lookup and line-numbered parsing.

@@ -119,24 +119,9 @@ pub fn s_star_of(dir: &Direction, table: Option<&BoundaryTable>) -> Result<Real>
 
 pub use crate::records::fmt_real;
 
-/// The CSV row of a plan (columns [`REACH_HEADER`]).
-pub fn reach_row(p: &RayPlan) -> Row {
-    vec![
-        fmt_real(p.dir.kappa),
-        fmt_real(p.dir.tau),
-        fmt_real(p.dir.omega),
-        fmt_real(p.s_star),
-        fmt_real(p.s_reached),
-        p.class.as_str().to_string(),
-        p.cause.map_or(String::new(), |c| c.as_str().to_string()),
-        fmt_real(p.azimuth),
-        p.roll.as_str().to_string(),
-        p.n_waypoints.to_string(),
-        fmt_real(p.path_cost),
-        fmt_real(p.max_joint_step),
-        p.reconfigurations.to_string(),
-        p.assumed_type.map_or("any", |t| t.name()).to_string(),
-    ]
+/// The CSV row of a plan (a [`crate::records::reach::ReachRecord`], columns [`REACH_HEADER`]).
+pub fn reach_row(p: &RayPlan) -> Result<Row> {
+    crate::records::csv_out::fields(&crate::records::reach::ReachRecord::from(p))
 }
 
 /// What the sweep plans per direction.
@@ -162,7 +147,7 @@ pub fn reach_one(
         None
     };
     let plan = planner.plan_best_typed(dir, s_star, kind, &opts.azimuths, opts.roll, false)?;
-    Ok(reach_row(&plan))
+    reach_row(&plan)
 }
 
 /// The settings a reach sweep records (see [`crate::sweep::record`]): a digest of the rig

@@ -89,7 +89,12 @@ pub struct Args {
 pub use helixreach::records::{dir_key, SpeedErrorRow};
 
 /// One boundary row.
-fn row(d: &Direction, r: CriticalS, method: &str, resolution: &str) -> Vec<String> {
+fn row(
+    d: &Direction,
+    r: CriticalS,
+    method: &str,
+    resolution: &str,
+) -> helixreach::Result<Vec<String>> {
     helixreach::records::boundary_row(d, r.s_star, method, resolution, r.est_error)
 }
 
@@ -180,7 +185,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let out = a.out.clone().context("--out is required")?;
     let (solve, resolution) = solver(a.method, a.nu, a.tol, a.step, a.n_edges)?;
     let method = method_name(a.method);
-    let mut opts = SweepOptions::new(&out, &HEADER, 3)
+    let mut opts = SweepOptions::new(&out, HEADER, 3)
         .sweep("boundary")
         .setting("method", method)
         .setting("resolution", &resolution)
@@ -198,7 +203,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let summary = driver::run(
         &dirs,
         dir_key,
-        |d| Ok(row(d, solve(d)?, method, &resolution)),
+        |d| row(d, solve(d)?, method, &resolution),
         &opts,
     )?;
     eprintln!(

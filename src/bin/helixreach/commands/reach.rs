@@ -101,7 +101,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(p) => Some(BoundaryTable::read(p)?),
         None => None,
     };
-    let mut sweep = SweepOptions::new(&args.out, &REACH_HEADER, 3);
+    let mut sweep = SweepOptions::new(&args.out, REACH_HEADER, 3);
     sweep.resume = args.resume;
     sweep.force = args.force;
     sweep.checkpoint_interval = std::time::Duration::from_secs_f64(args.checkpoint_secs);

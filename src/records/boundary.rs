@@ -1,0 +1,170 @@
+//! The boundary survey (`helixreach boundary --out`, the demo's `boundary.csv` and
+//! `boundary_omega0.csv`): one [`BoundaryRecord`] per direction, read back by
+//! [`read_boundary`](super::read_boundary); and the demo's DER check against it
+//! (`der_check.csv`, one [`DerCheckRecord`] per direction and resolution).
+
+use super::csv_out::{self, CsvRecord};
+use crate::directions::Direction;
+use crate::math::Real;
+
+/// One direction of a boundary CSV: where the ray S̄ leaves the stable set. The boundary point
+/// is `s*·S̄` with `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct BoundaryRecord<'a> {
+    /// κ̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_kappa: Real,
+    /// τ̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_tau: Real,
+    /// ω̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_omega: Real,
+    /// Critical distance s* (`inf`: stable up to the search limit).
+    #[serde(serialize_with = "csv_out::real")]
+    pub s_star: Real,
+    /// κ of the boundary point.
+    #[serde(serialize_with = "csv_out::real")]
+    pub kappa: Real,
+    /// τ of the boundary point.
+    #[serde(serialize_with = "csv_out::real")]
+    pub tau: Real,
+    /// ω of the boundary point.
+    #[serde(serialize_with = "csv_out::real")]
+    pub omega: Real,
+    /// Boundary method (`continuum`, `der`, …).
+    pub method: &'a str,
+    /// Method resolution (tolerance, n).
+    pub resolution: &'a str,
+    /// The method's error estimate of s*, in exponent notation (`1.5e-9`).
+    #[serde(serialize_with = "csv_out::real_exp")]
+    pub est_error: Real,
+}
+
+impl CsvRecord for BoundaryRecord<'_> {
+    const HEADER: &'static [&'static str] = &[
+        "dir_kappa",
+        "dir_tau",
+        "dir_omega",
+        "s_star",
+        "kappa",
+        "tau",
+        "omega",
+        "method",
+        "resolution",
+        "est_error",
+    ];
+}
+
+impl<'a> BoundaryRecord<'a> {
+    /// The record of direction `d` with boundary `s_star`.
+    pub fn new(
+        d: &Direction,
+        s_star: Real,
+        method: &'a str,
+        resolution: &'a str,
+        est_error: Real,
+    ) -> Self {
+        let scaled = |c: Real| if c == 0.0 { 0.0 } else { s_star * c };
+        BoundaryRecord {
+            dir_kappa: d.kappa,
+            dir_tau: d.tau,
+            dir_omega: d.omega,
+            s_star,
+            kappa: scaled(d.kappa),
+            tau: scaled(d.tau),
+            omega: scaled(d.omega),
+            method,
+            resolution,
+            est_error,
+        }
+    }
+}
+
+/// One (direction, DER resolution) of the demo's DER check against the continuum boundary.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct DerCheckRecord {
+    /// κ̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_kappa: Real,
+    /// τ̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_tau: Real,
+    /// ω̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_omega: Real,
+    /// The continuum s* (the reference).
+    #[serde(serialize_with = "csv_out::real")]
+    pub s_star_continuum: Real,
+    /// DER edges.
+    pub n_edges: usize,
+    /// The DER s* (NaN: the DER test failed).
+    #[serde(serialize_with = "csv_out::real")]
+    pub s_star_der: Real,
+    /// |s*_DER − s*_continuum| / s*_continuum (NaN when the DER test failed).
+    #[serde(serialize_with = "csv_out::real")]
+    pub rel_diff: Real,
+    /// Seconds the DER test took.
+    #[serde(serialize_with = "csv_out::real")]
+    pub seconds: Real,
+}
+
+impl CsvRecord for DerCheckRecord {
+    const HEADER: &'static [&'static str] = &[
+        "dir_kappa",
+        "dir_tau",
+        "dir_omega",
+        "s_star_continuum",
+        "n_edges",
+        "s_star_der",
+        "rel_diff",
+        "seconds",
+    ];
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::records::csv_out::{field_names, fields};
+
+    /// Header == serde fields; `∞·0 = 0`; the error estimate in exponent notation as the
+    /// hand-written row had it (`format!("{:e}")`).
+    #[test]
+    fn boundary_record_fields() {
+        let d = Direction::new(1.0, 0.0, 0.0).unwrap();
+        let r = BoundaryRecord::new(&d, Real::INFINITY, "continuum", "1e-10", 1.5e-9);
+        assert_eq!(field_names(&r).unwrap(), BoundaryRecord::HEADER);
+        assert_eq!(
+            fields(&r).unwrap(),
+            [
+                "1",
+                "0",
+                "0",
+                "inf",
+                "inf",
+                "0",
+                "0",
+                "continuum",
+                "1e-10",
+                "1.5e-9"
+            ]
+        );
+        let r = BoundaryRecord::new(&d, 6.25, "der", "n=100", 0.0);
+        assert_eq!(fields(&r).unwrap()[9], format!("{:e}", 0.0));
+        let c = DerCheckRecord {
+            dir_kappa: 0.6,
+            dir_tau: 0.8,
+            dir_omega: 0.0,
+            s_star_continuum: 7.0,
+            n_edges: 30,
+            s_star_der: Real::NAN,
+            rel_diff: Real::NAN,
+            seconds: 0.25,
+        };
+        assert_eq!(field_names(&c).unwrap(), DerCheckRecord::HEADER);
+        assert_eq!(
+            fields(&c).unwrap(),
+            ["0.6", "0.8", "0", "7", "30", "NaN", "NaN", "0.25"]
+        );
+    }
+}
