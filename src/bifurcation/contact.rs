@@ -170,6 +170,10 @@ impl ContactMonitor {
     }
 }
 
+/// Two edges are parallel (no interior closest points) when `|d₁×d₂|² ≤ PARALLEL_EDGES·|d₁|²|d₂|²`
+/// (sin² of their angle).
+const PARALLEL_EDGES: Real = 1e-12;
+
 /// `V = (d₁ × d₂)·(p₂ − p₁)` when the closest points of the two lines lie inside both edges,
 /// NaN otherwise (parallel lines included).
 fn interior_volume(p1: &Vec3, d1: &Vec3, p2: &Vec3, d2: &Vec3) -> Real {
@@ -177,7 +181,7 @@ fn interior_volume(p1: &Vec3, d1: &Vec3, p2: &Vec3, d2: &Vec3) -> Real {
     let (a, b, e) = (d1.dot(d1), d1.dot(d2), d2.dot(d2));
     let (c, f) = (d1.dot(&r), d2.dot(&r));
     let denom = a * e - b * b;
-    if denom <= 1e-12 * a * e {
+    if denom <= PARALLEL_EDGES * a * e {
         return Real::NAN;
     }
     let s = (b * f - c * e) / denom;
@@ -227,7 +231,7 @@ fn segment_pair_writhe(r1: &Vec3, r2: &Vec3, r3: &Vec3, r4: &Vec3) -> Real {
     let (r13, r14, r23, r24) = (r3 - r1, r4 - r1, r3 - r2, r4 - r2);
     let unit = |v: Vec3| {
         let l = v.norm();
-        (l > 1e-300).then(|| v / l)
+        (l > crate::math::tol::TINY).then(|| v / l)
     };
     let (Some(n1), Some(n2), Some(n3), Some(n4)) = (
         unit(r13.cross(&r14)),

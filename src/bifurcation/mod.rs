@@ -278,6 +278,12 @@ fn degenerate(reason: String, s_star: Real) -> Bifurcation {
 
 /// Amplitudes tried by [`classify`], as fractions of [`reduction::AMPLITUDE`].
 const AMPLITUDE_FRACTIONS: [Real; 3] = [1.0, 0.5, 0.25];
+/// Relative tolerance of the continuum s* that seeds the DER search (the DER s* is then found
+/// on its own; the seed only has to lie within the bracket `[0.985, 1.02]·s*`).
+const SEED_S_STAR_REL: Real = 1e-6;
+/// The helix equilibrium for dλ/ds is taken at least this far below s* (relative): a DER s*
+/// whose error estimate is 0 still leaves a step.
+const S_STAR_ERROR_FLOOR: Real = 1e-12;
 
 /// [`classify`] on a validated direction; `s_star_out` receives s* as soon as it is known.
 fn classify_ray(
@@ -289,7 +295,7 @@ fn classify_ray(
     let der = p.der;
     let c = twist_ratio(der.nu)?;
     let mut ray = DerRay::new(&dir, &der)?;
-    let crit = match crate::boundary::continuum::critical_s(&dir, 1e-6) {
+    let crit = match crate::boundary::continuum::critical_s(&dir, SEED_S_STAR_REL) {
         Ok(cs) if der.continuum_seed && cs.s_star.is_finite() && cs.s_star < der.s_max => {
             ray.critical_s_from(0.985 * cs.s_star, 1.02)?
         }
@@ -305,7 +311,7 @@ fn classify_ray(
     }
     *s_star_out = s_star;
     // The helix equilibrium just below s* and two more points for dλ/ds.
-    let s0 = s_star - 2.0 * crit.est_error.max(1e-12 * s_star);
+    let s0 = s_star - 2.0 * crit.est_error.max(S_STAR_ERROR_FLOOR * s_star);
     let free = ray.rod().free_range_clamped();
     let mut ws = Workspace::new(ray.rod());
     let mut lambdas = [0.0; 3];

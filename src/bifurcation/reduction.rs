@@ -401,7 +401,7 @@ pub fn reduce_with_amplitude(
     let mode = critical_mode(rod, base, free.clone(), ws)?;
     let nd = rod.n_dofs();
     let phi = &mode.phi;
-    let h = amplitude / mode.max_node.max(1e-300);
+    let h = amplitude / mode.max_node.max(crate::math::tol::TINY);
     let mut scratch = base.clone();
     let mut dq = vec![0.0; nd];
     // r = E'''[φ, φ, ·] on the free DOFs.

@@ -203,7 +203,7 @@ pub fn static_return(
     }
     let helix_energy = crate::rod::energy::energy(&rod, &st);
     let helix_lk = linking_number(&st);
-    let x = KICK / mode.max_node.max(1e-300);
+    let x = KICK / mode.max_node.max(crate::math::tol::TINY);
     for (q, p) in st.q.iter_mut().zip(&mode.phi) {
         *q += x * p;
     }
@@ -279,7 +279,7 @@ pub fn static_return(
     let mut ds = 0.02 * s_star;
     let mut trial = st.clone();
     let mut solves = 0;
-    let s_floor = 1e-3 * s_star;
+    let s_floor = S_FLOOR_REL * s_star;
     while ds >= tol_rel * s_star {
         let s_new = s - ds;
         if s_new <= s_floor {
@@ -381,6 +381,10 @@ enum Settled {
     /// No stable equilibrium reached (a failed step, or still moving).
     No,
 }
+
+/// The unloading continuation stops at `s = S_FLOOR_REL·s*` (the straight rod, practically):
+/// a far branch that survives down to it returns there, flagged `at_floor`.
+const S_FLOOR_REL: Real = 1e-3;
 
 /// Steps over which the end is moved in [`settle_moved`].
 const MOVE_STEPS: usize = 20;

@@ -135,8 +135,12 @@ impl Candidate {
     }
 }
 
+/// A region whose width is a whole number of spacings up to round-off (in spacings) gets its last
+/// grid line.
+const GRID_SLACK: Real = 1e-9;
+
 fn axis_values(lo: Real, hi: Real, h: Real) -> Vec<Real> {
-    let n = ((hi - lo) / h + 1e-9).floor() as usize;
+    let n = ((hi - lo) / h + GRID_SLACK).floor() as usize;
     (0..=n).map(|i| lo + i as Real * h).collect()
 }
 

@@ -131,12 +131,15 @@ pub fn render(rows: &[BifurcationRow], labelled: &[BifurcationRow], out: &Path) 
             "need at least one direction",
         ));
     }
-    let half = rows.iter().chain(labelled).all(|r| r.dir.tau >= -1e-9);
+    let half = rows
+        .iter()
+        .chain(labelled)
+        .all(|r| r.dir.tau >= -crate::math::tol::ON_QUARTER);
     let h_max = rows
         .iter()
         .filter_map(|r| r.hysteresis)
         .fold(0.0f64, f64::max)
-        .max(1e-9);
+        .max(super::style::guard::SCALE_FLOOR);
     super::save(
         &Map {
             rows,

@@ -20,7 +20,7 @@
 //! units are equal on all three axes, so the surface is not distorted.
 
 use super::records::BoundaryRow;
-use super::style;
+use super::style::{self, guard};
 use super::{DrawResult, Figure};
 use crate::error::{Error, Result};
 use plotters::coord::Shift;
@@ -120,7 +120,7 @@ fn resample(samples: &[(P3, f64)], cap: f64) -> Vec<Option<(P3, f64)>> {
             }
             let (mut wsum, mut vsum) = (0.0, 0.0);
             for (a, s) in &near {
-                let w = 1.0 / (a * a + 1e-12);
+                let w = 1.0 / (a * a + guard::SPAN_FLOOR);
                 wsum += w;
                 vsum += w * s.min(cap);
             }
@@ -348,7 +348,7 @@ impl Figure for Boundary3d {
         }
         faces.sort_by(|a, b| a.0.total_cmp(&b.0));
         let cut_fill = style::lighten(style::SKY_BLUE, 0.55);
-        let span = (self.cap - self.s_min).max(1e-12);
+        let span = (self.cap - self.s_min).max(guard::SPAN_FLOOR);
         for (_, f) in &faces {
             match f {
                 Face::Surface(q, s) => {
@@ -430,7 +430,7 @@ impl Figure for Boundary3d {
         let tick_font = font(style::TICK);
         let label_axis = |axis: usize, fixed: P3, outward: P3, name: &str| -> DrawResult<DB> {
             let (dx, dy) = cam.screen(outward);
-            let n = dx.hypot(dy).max(1e-12);
+            let n = dx.hypot(dy).max(guard::SPAN_FLOOR);
             let (dx, dy) = (dx / n, -dy / n);
             let anchor_h = if dx > 0.3 {
                 HPos::Left
@@ -538,7 +538,8 @@ impl Figure for Boundary3d {
         ))?;
         for t in style::nice_ticks(self.s_min, self.cap, 5) {
             let y = by1
-                - ((t - self.s_min) / (self.cap - self.s_min).max(1e-12) * (by1 - by0) as f64)
+                - ((t - self.s_min) / (self.cap - self.s_min).max(guard::SPAN_FLOOR)
+                    * (by1 - by0) as f64)
                     .round() as i32;
             root.draw(&PathElement::new(
                 vec![(bx1, y), (bx1 + 6, y)],

@@ -92,7 +92,7 @@ pub fn render(boundary: &[BoundaryRow], measured: &[(Direction, f64)], out: &Pat
             section,
             meas_section,
             band,
-            lim: lim.max(1e-9),
+            lim: lim.max(super::style::guard::SCALE_FLOOR),
         },
         out,
     )

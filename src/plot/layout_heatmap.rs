@@ -6,7 +6,7 @@
 //! numbered black rings and reference positions (e.g. the seed's hand-chosen clamps) red crosses.
 //! Axes have equal scale.
 
-use super::style::{self, FAMILY};
+use super::style::{self, guard, FAMILY};
 use super::{DrawResult, Figure};
 use crate::error::{Error, Result};
 use plotters::coord::Shift;
@@ -64,7 +64,7 @@ pub fn render(h: &Heatmap, out: &Path) -> Result<()> {
     for c in &h.cells {
         match merged
             .iter_mut()
-            .find(|m| (m.x - c.x).abs() < 1e-9 && (m.y - c.y).abs() < 1e-9)
+            .find(|m| (m.x - c.x).abs() < guard::SAME && (m.y - c.y).abs() < guard::SAME)
         {
             Some(m) => m.fraction = m.fraction.max(c.fraction),
             None => merged.push(*c),
@@ -74,7 +74,7 @@ pub fn render(h: &Heatmap, out: &Path) -> Result<()> {
     for a in &merged {
         for b in &merged {
             for d in [(a.x - b.x).abs(), (a.y - b.y).abs()] {
-                if d > 1e-9 {
+                if d > guard::SAME {
                     step = step.min(d);
                 }
             }
@@ -153,7 +153,7 @@ impl Figure for Map<'_> {
         let half = 0.48 * self.step;
         chart.draw_series(self.merged.iter().map(|c| {
             let col = if c.fraction > 0.0 {
-                style::viridis(c.fraction / best.max(1e-12))
+                style::viridis(c.fraction / best.max(guard::SPAN_FLOOR))
             } else {
                 style::LIGHT_GREY
             };

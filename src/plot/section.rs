@@ -191,14 +191,15 @@ impl Section {
         let mut radii: Vec<f64> = finite.iter().map(|p| p.0.hypot(p.1)).collect();
         radii.sort_by(f64::total_cmp);
         let cap = 3.0 * radii[radii.len() / 2];
-        let k_hi = (finite.iter().map(|p| p.0).fold(0.0, f64::max).min(cap) * 1.08).max(1e-6);
+        let k_hi = (finite.iter().map(|p| p.0).fold(0.0, f64::max).min(cap) * 1.08)
+            .max(super::style::guard::MIN_EXTENT);
         let t_abs = (finite
             .iter()
             .map(|p| p.1.abs())
             .fold(0.0, f64::max)
             .min(cap)
             * 1.08)
-            .max(1e-6);
+            .max(super::style::guard::MIN_EXTENT);
         let plot_w = (PLOT_H * k_hi / (2.0 * t_abs)).clamp(320.0, 900.0);
         let scale = (k_hi / plot_w).max(2.0 * t_abs / PLOT_H);
         Window {

@@ -21,6 +21,21 @@ use std::sync::Once;
 /// The font family name every figure uses (registered by [`init_fonts`]).
 pub const FAMILY: &str = "sans-serif";
 
+/// Numeric guards shared by the figures. They decide how a figure is drawn, never a number
+/// written to a file.
+pub mod guard {
+    /// A length, span or weight denominator a figure divides by is at least this (a degenerate
+    /// range still draws instead of dividing by zero).
+    pub const SPAN_FLOOR: f64 = 1e-12;
+    /// An axis or colour scale whose data are all zero spans this instead (the data's unit).
+    pub const SCALE_FLOOR: f64 = 1e-9;
+    /// Two coordinates closer than this are the same value (absolute, in the data's unit, or
+    /// relative where a value's magnitude multiplies it).
+    pub const SAME: f64 = 1e-9;
+    /// An axis range or depth extent narrower than this is degenerate and gets a default width.
+    pub const MIN_EXTENT: f64 = 1e-6;
+}
+
 /// Title size (px).
 pub const TITLE: f64 = 30.0;
 /// Axis description size (px).
@@ -145,12 +160,12 @@ pub fn tick_label(v: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }
-    if (v - v.round()).abs() < 1e-9 * v.abs().max(1.0) {
+    if (v - v.round()).abs() < guard::SAME * v.abs().max(1.0) {
         return format!("{}", v.round() as i64);
     }
     for p in 1..4 {
         let s = format!("{v:.p$}");
-        if (s.parse::<f64>().unwrap_or(f64::NAN) - v).abs() < 1e-9 * v.abs() {
+        if (s.parse::<f64>().unwrap_or(f64::NAN) - v).abs() < guard::SAME * v.abs() {
             return s;
         }
     }

@@ -164,7 +164,7 @@ impl Figure for Trajectory {
                 lo = lo.min(l);
                 hi = hi.max(u);
             }
-            if hi - lo <= 1e-6 || (hi - lo).is_nan() {
+            if hi - lo <= super::style::guard::MIN_EXTENT || (hi - lo).is_nan() {
                 lo -= 0.5;
                 hi += 0.5;
             }

@@ -46,6 +46,19 @@ use rand_chacha::ChaCha8Rng;
 
 /// Iterations over which a run must halve its error (else it is abandoned as stalled).
 const STALL_WINDOW: usize = 10;
+/// [`log_rot`]: below this angle (rad) the rotation vector is the skew part itself
+/// (`θ/sin θ = 1` to machine precision).
+const LOG_SMALL_ANGLE: Real = 1e-8;
+/// [`log_rot`]: within this of π (rad) the axis comes from the symmetric part (nalgebra), where
+/// `θ/sin θ` loses accuracy.
+const LOG_NEAR_PI: Real = 1e-4;
+/// Levenberg–Marquardt damping at the start of a solve (dimensionless, on JᵀJ's scale).
+const LM_LAMBDA_START: Real = 1e-3;
+/// Least Levenberg–Marquardt damping after successful steps.
+const LM_LAMBDA_MIN: Real = 1e-14;
+/// Limit weighting: the distance (rad) to a joint limit is at least this (the weight stays
+/// finite at the limit).
+const LIMIT_GAP_FLOOR: Real = 1e-9;
 
 /// What the tool must reach.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -142,7 +155,7 @@ impl IkTarget {
                 let c = z.cross(axis);
                 let s = c.norm();
                 let ang = s.atan2(z.dot(axis));
-                let w = if s > 1e-300 {
+                let w = if s > tol::TINY {
                     c * (ang / s)
                 } else if ang > 1.0 {
                     // Antiparallel: turn about any axis ⊥ z.
@@ -174,9 +187,9 @@ fn log_rot(r: &Mat3) -> Vec3 {
     let s = w.norm();
     let c = 0.5 * (r.trace() - 1.0);
     let th = s.atan2(c);
-    if th < 1e-8 {
+    if th < LOG_SMALL_ANGLE {
         w
-    } else if th < std::f64::consts::PI - 1e-4 {
+    } else if th < std::f64::consts::PI - LOG_NEAR_PI {
         w * (th / s)
     } else {
         nalgebra::Rotation3::from_matrix_unchecked(*r).scaled_axis()
@@ -445,7 +458,7 @@ impl<'a> IkSolver<'a> {
         let mut tool = chain.jacobian(&q[..n], &mut jac);
         let mut e = target.residual(&tool, Some(&mut jac));
         let mut err2 = e.norm_squared();
-        let mut lambda: Real = 1e-3;
+        let mut lambda: Real = LM_LAMBDA_START;
         let mut checkpoint = err2;
         for it in 0..self.params.max_iterations {
             // Stall test: a run that has not halved its error in the last `STALL_WINDOW`
@@ -477,7 +490,10 @@ impl<'a> IkSolver<'a> {
             let mut scale = [1.0; MAX_DOF];
             for i in 0..n * usize::from(self.params.limit_weighting) {
                 let (l, u) = (self.lower[i], self.upper[i]);
-                let (a, b) = ((u - q[i]).max(1e-9), (q[i] - l).max(1e-9));
+                let (a, b) = (
+                    (u - q[i]).max(LIMIT_GAP_FLOOR),
+                    (q[i] - l).max(LIMIT_GAP_FLOOR),
+                );
                 let r = u - l;
                 let g = r * r * (2.0 * q[i] - u - l) / (4.0 * a * a * b * b);
                 scale[i] = 1.0 / (1.0 + g.abs()).sqrt();
@@ -534,7 +550,7 @@ impl<'a> IkSolver<'a> {
                 tool = chain.jacobian(&q[..n], &mut jac);
                 e = target.residual(&tool, Some(&mut jac));
                 err2 = e.norm_squared();
-                lambda = (lambda * 0.2).max(1e-14);
+                lambda = (lambda * 0.2).max(LM_LAMBDA_MIN);
             } else {
                 lambda *= 8.0;
                 if lambda > 1e6 {

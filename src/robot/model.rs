@@ -357,7 +357,10 @@ pub fn pose_from_xyz_wxyz(v: &[Real]) -> Result<Frame> {
         return Err(Error::invalid(
             "pose quaternion (qw,qx,qy,qz)",
             format!("norm {n}"),
-            "must be a unit quaternion (|norm − 1| ≤ 1e-6)",
+            format!(
+                "must be a unit quaternion (|norm − 1| ≤ {:e})",
+                crate::math::tol::UNIT_QUATERNION
+            ),
         ));
     }
     let uq = Quat::from_quaternion(q);

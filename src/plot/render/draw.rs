@@ -159,7 +159,7 @@ impl Layout {
             let h = (hi[1] - lo[1]).max(1e-3);
             scale = scale.min(0.94 * (aw / w).min(ah / h));
             centers.push([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
-            depth.push((dlo, dhi.max(dlo + 1e-6)));
+            depth.push((dlo, dhi.max(dlo + crate::plot::style::guard::MIN_EXTENT)));
         }
         if !scale.is_finite() {
             return Err(Error::invalid(

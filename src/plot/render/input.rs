@@ -27,6 +27,7 @@
 use crate::error::{Error, Result};
 use crate::io::{bad_line, parse_field, CsvInput};
 use crate::math::{Real, Vec3};
+use crate::plot::style::guard;
 use crate::records::trajectory::{joint_column, MOTOR_COLUMN};
 use std::path::Path;
 
@@ -221,7 +222,7 @@ fn reconfiguring(rows: &[Row], i: usize) -> bool {
                     .q
                     .iter()
                     .zip(&rows[i - 1].q)
-                    .any(|(a, b)| (a - b).abs() > 1e-9)
+                    .any(|(a, b)| (a - b).abs() > guard::SAME)
         }
     }
 }
@@ -298,7 +299,10 @@ pub fn select_frames(rows: &[Row], sel: FrameSelection) -> Result<Vec<FrameChoic
             const NAMES: [&str; 5] = ["0", "¼ s*", "½ s*", "¾ s*", "s*"];
             for (k, name) in NAMES.iter().enumerate() {
                 let target = s_star * k as Real / 4.0;
-                if let Some(i) = rows.iter().position(|r| r.s >= target * (1.0 - 1e-9)) {
+                if let Some(i) = rows
+                    .iter()
+                    .position(|r| r.s >= target * (1.0 - guard::SAME))
+                {
                     out.push(FrameChoice {
                         row: i,
                         label: format!("s = {name}"),
