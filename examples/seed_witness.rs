@@ -106,13 +106,7 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
         return Ok(out);
     }
     let map = PoseMap::new(&rig, 0.0);
-    let solver = IkSolver::new(
-        model,
-        IkParams {
-            redundancy_joint: None,
-            ..IkParams::default()
-        },
-    )?;
+    let solver = IkSolver::new(model, IkParams::without_redundancy())?;
     let cm = planner.collision();
     let step = rig.planner.max_joint_step;
     // Start: the nearest of our start configurations to the witness start.

@@ -203,30 +203,9 @@ impl LayoutReport {
 /// [`tol::DIRECTION_MATCH`](crate::math::tol::DIRECTION_MATCH) after normalization). Every
 /// listed direction must be among `dirs`.
 pub fn read_references(path: &Path, dirs: &[Direction]) -> Result<Vec<Reference>> {
-    let mut table = crate::io::CsvInput::open(path)?;
-    let hint = "header must contain dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z";
-    let names = [
-        "dir_kappa",
-        "dir_tau",
-        "dir_omega",
-        "clamp_x",
-        "clamp_y",
-        "clamp_z",
-    ];
-    let mut cols = [0usize; 6];
-    for (k, n) in names.iter().enumerate() {
-        cols[k] = table.column(n, hint)?;
-    }
     let mut refs: Vec<Reference> = Vec::new();
-    for (k, rec) in table.reader.records().enumerate() {
-        let line = k + 2;
-        let bad = |field: &str, reason: String| crate::io::bad_line(path, line, field, reason);
-        let rec = rec.map_err(|e| bad("record", e.to_string()))?;
-        let mut v = [0.0; 6];
-        for i in 0..6 {
-            v[i] = crate::io::parse_field(path, line, &rec, cols[i], names[i])?;
-        }
-        let d = Direction::new(v[0], v[1], v[2]).map_err(|e| bad("direction", e.to_string()))?;
+    for row in crate::records::clamp_runs::read_clamped_directions(path, false)? {
+        let d = row.dir;
         let idx = dirs
             .iter()
             .position(|x| {
@@ -235,12 +214,18 @@ pub fn read_references(path: &Path, dirs: &[Direction]) -> Result<Vec<Reference>
                     && (x.tau - d.tau).abs() < M
                     && (x.omega - d.omega).abs() < M
             })
-            .ok_or_else(|| bad("direction", "not in the layout's direction set".into()))?;
-        let origin = [v[3], v[4], v[5]];
-        match refs.iter_mut().find(|r| r.origin == origin) {
+            .ok_or_else(|| {
+                crate::io::bad_line(
+                    path,
+                    row.line,
+                    "direction",
+                    "not in the layout's direction set".into(),
+                )
+            })?;
+        match refs.iter_mut().find(|r| r.origin == row.clamp) {
             Some(r) => r.own.push(idx),
             None => refs.push(Reference {
-                origin,
+                origin: row.clamp,
                 own: vec![idx],
             }),
         }

@@ -69,41 +69,16 @@ pub struct SeedRun {
 /// Read the seed's run index (`trajectories.csv`: columns `file`, `dir_kappa`, `dir_tau`,
 /// `dir_omega`, `clamp_x`, `clamp_y`, `clamp_z`); errors name the file, line and field.
 pub fn read_seed_runs(index: &Path) -> Result<Vec<SeedRun>> {
-    let mut table = crate::io::CsvInput::open(index)?;
-    let hint = "header must contain file,dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z";
-    let names = [
-        "dir_kappa",
-        "dir_tau",
-        "dir_omega",
-        "clamp_x",
-        "clamp_y",
-        "clamp_z",
-    ];
-    let mut cols = [0usize; 6];
-    for (k, n) in names.iter().enumerate() {
-        cols[k] = table.column(n, hint)?;
-    }
-    let file_col = table.column("file", hint)?;
-    let mut runs = Vec::new();
-    for (k, rec) in table.reader.records().enumerate() {
-        let line = k + 2;
-        let bad = |field: &str, reason: String| crate::io::bad_line(index, line, field, reason);
-        let rec = rec.map_err(|e| bad("record", e.to_string()))?;
-        let mut v = [0.0; 6];
-        for i in 0..6 {
-            v[i] = crate::io::parse_field(index, line, &rec, cols[i], names[i])?;
-        }
-        let file = rec.get(file_col).unwrap_or("").trim();
-        if file.is_empty() {
-            return Err(bad("file", "empty".into()));
-        }
-        runs.push(SeedRun {
-            file: file.to_string(),
-            dir: Direction::new(v[0], v[1], v[2]).map_err(|e| bad("direction", e.to_string()))?,
-            clamp: [v[3], v[4], v[5]],
-        });
-    }
-    Ok(runs)
+    Ok(
+        crate::records::clamp_runs::read_clamped_directions(index, true)?
+            .into_iter()
+            .map(|r| SeedRun {
+                file: r.file.unwrap_or_default(),
+                dir: r.dir,
+                clamp: r.clamp,
+            })
+            .collect(),
+    )
 }
 
 /// How far a run is a witness (in `s` on our ray), and why it stops being one there.
@@ -248,13 +223,7 @@ fn witness_of(
         s_rows,
     };
     let map = PoseMap::new(rig, 0.0);
-    let solver = IkSolver::new(
-        model,
-        IkParams {
-            redundancy_joint: None,
-            ..IkParams::default()
-        },
-    )?;
+    let solver = IkSolver::new(model, IkParams::without_redundancy())?;
     let cm = planner.collision();
     let mut ws = cm.workspace();
     let (lo, hi) = (model.lower(), model.upper());

@@ -251,6 +251,17 @@ impl Default for IkParams {
     }
 }
 
+impl IkParams {
+    /// The defaults without a redundancy joint: every joint free, a plain pose solve or track
+    /// from a seed (how the seed-run witness corrects recorded rows onto our pose).
+    pub fn without_redundancy() -> Self {
+        IkParams {
+            redundancy_joint: None,
+            ..IkParams::default()
+        }
+    }
+}
+
 /// One IK solution.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IkSolution {
