@@ -22,6 +22,7 @@ pub mod compare;
 pub mod csv_out;
 pub mod layout;
 pub mod reach;
+pub mod render;
 pub mod series;
 pub mod trajectory;
 

@@ -56,10 +56,10 @@ use crate::error::{Error, Result};
 use crate::math::Real;
 use crate::planning::rig::Rig;
 use crate::plot::{DrawResult, Figure};
+use crate::records::render::{ClearanceFields, RenderFrameRecord};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use rayon::prelude::*;
-use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -395,38 +395,35 @@ pub fn render_trajectory(
     render_strip(&scene, &snaps, &strip_opts, &strip_svg)?;
 
     // Per-frame clearances.
-    let mut csv = String::from("frame,row,line,t,s,phase,label");
-    for k in ClearanceKind::ALL {
-        let n = k.as_str().replace('-', "_");
-        let _ = write!(csv, ",{n}_m,{n}_a,{n}_b");
-    }
-    csv.push('\n');
+    let mut records = Vec::with_capacity(frames.len());
     let mut min_clearance = [None; 3];
     for (k, (f, s)) in frames.iter().zip(&snaps).enumerate() {
         let r = &rows[f.row];
-        let _ = write!(
-            csv,
-            "{},{},{},{},{},{},\"{}\"",
-            k + 1,
-            f.row,
-            r.line,
-            r.t,
-            r.s,
-            r.phase.map_or("", |p| p.as_str()),
-            f.label
-        );
-        for (j, kind) in ClearanceKind::ALL.iter().enumerate() {
-            match s.clearance(*kind) {
-                Some(c) => {
-                    let _ = write!(csv, ",{},{},{}", c.distance, c.a, c.b);
-                    min_clearance[j] =
-                        Some(min_clearance[j].map_or(c.distance, |m: Real| m.min(c.distance)));
+        let mut by_kind = ClearanceKind::ALL.iter().enumerate().map(|(j, kind)| {
+            s.clearance(*kind).map(|c| {
+                min_clearance[j] =
+                    Some(min_clearance[j].map_or(c.distance, |m: Real| m.min(c.distance)));
+                ClearanceFields {
+                    m: c.distance,
+                    a: c.a.clone(),
+                    b: c.b.clone(),
                 }
-                None => csv.push_str(",,,"),
-            }
-        }
-        csv.push('\n');
+            })
+        });
+        records.push(RenderFrameRecord {
+            frame: k + 1,
+            row: f.row,
+            line: r.line,
+            t: r.t,
+            s: r.s,
+            phase: r.phase.map_or("", |p| p.as_str()),
+            label: f.label.clone(),
+            self_collision: by_kind.next().flatten(),
+            scene: by_kind.next().flatten(),
+            rod_arm: by_kind.next().flatten(),
+        });
     }
+    let csv = crate::records::csv_out::to_csv(&records)?;
     let frames_csv = out_dir.join("render_frames.csv");
     crate::io::write_atomic(&frames_csv, csv.as_bytes())?;
 
