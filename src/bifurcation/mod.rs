@@ -125,17 +125,24 @@ pub struct BifurcationParams {
     pub contact_diameter: Real,
 }
 
+/// Relative tolerance of the DER s* when classifying, in [`BifurcationParams::default`] and
+/// [`BifurcationParams::planning`] (the DER boundary's own default is 1e-8).
+pub const S_STAR_TOL_REL: Real = 1e-7;
+/// Default relative resolution of `s_return` ([`BifurcationParams::return_tol_rel`]).
+pub const RETURN_TOL_REL: Real = 1e-3;
+
 impl Default for BifurcationParams {
-    /// DER n = 100, `tol_rel = 1e-7`, static return on, resolved to 1e-3, the contact
+    /// DER n = 100, `tol_rel =` [`S_STAR_TOL_REL`], static return on, resolved to
+    /// [`RETURN_TOL_REL`], the contact
     /// diameter of the seed's nitinol rod (1.5875 mm on L = 0.5 m: 3.175·10⁻³).
     fn default() -> Self {
         BifurcationParams {
             der: DerBoundaryParams {
-                tol_rel: 1e-7,
+                tol_rel: S_STAR_TOL_REL,
                 ..DerBoundaryParams::default()
             },
             statics_return: true,
-            return_tol_rel: 1e-3,
+            return_tol_rel: RETURN_TOL_REL,
             contact_diameter: 2.0 * crate::rod::dynamics::PhysicalRod::nitinol().slenderness(),
         }
     }
@@ -177,7 +184,7 @@ impl BifurcationParams {
         BifurcationParams {
             der: DerBoundaryParams {
                 n_edges: PLANNING_N_EDGES,
-                tol_rel: 1e-7,
+                tol_rel: S_STAR_TOL_REL,
                 ..DerBoundaryParams::default()
             },
             statics_return: false,

@@ -241,7 +241,7 @@ impl Figure for Boundary3d {
             }
         }
         for a in 0..3 {
-            let pad = 0.05 * (hi[a] - lo[a]).max(1e-3);
+            let pad = 0.05 * (hi[a] - lo[a]).max(guard::MIN_LAYOUT);
             hi[a] += pad;
             if a > 0 {
                 lo[a] -= pad;

@@ -221,7 +221,11 @@ impl Section {
         }
         let mut gaps: Vec<f64> = rays.windows(2).map(|w| w[1].psi - w[0].psi).collect();
         gaps.sort_by(f64::total_cmp);
-        let spacing = gaps.get(gaps.len() / 2).copied().unwrap_or(0.1).max(1e-3);
+        let spacing = gaps
+            .get(gaps.len() / 2)
+            .copied()
+            .unwrap_or(0.1)
+            .max(super::style::guard::MIN_LAYOUT);
         let nearest = rays
             .iter()
             .min_by(|a, b| (a.psi - psi).abs().total_cmp(&(b.psi - psi).abs()))?;

@@ -34,6 +34,9 @@ pub mod guard {
     pub const SAME: f64 = 1e-9;
     /// An axis range or depth extent narrower than this is degenerate and gets a default width.
     pub const MIN_EXTENT: f64 = 1e-6;
+    /// A width, pad or spacing a figure lays out from its data is at least this (the data's
+    /// unit: a scene of a single point, or rays at one angle, still get a frame).
+    pub const MIN_LAYOUT: f64 = 1e-3;
 }
 
 /// Title size (px).

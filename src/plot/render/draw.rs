@@ -155,8 +155,8 @@ impl Layout {
                     }
                 }
             }
-            let w = (hi[0] - lo[0]).max(1e-3);
-            let h = (hi[1] - lo[1]).max(1e-3);
+            let w = (hi[0] - lo[0]).max(crate::plot::style::guard::MIN_LAYOUT);
+            let h = (hi[1] - lo[1]).max(crate::plot::style::guard::MIN_LAYOUT);
             scale = scale.min(0.94 * (aw / w).min(ah / h));
             centers.push([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
             depth.push((dlo, dhi.max(dlo + crate::plot::style::guard::MIN_EXTENT)));
