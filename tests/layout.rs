@@ -355,3 +355,72 @@ fn bad_input_is_a_clear_error() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("spacing"));
 }
+
+#[test]
+fn end_pose_check_rules_out_only_untestable_rays() {
+    // Candidate (0.80, −0.30) at the seed clamp's height: the five `seed_dirs` and three
+    // low-τ quarter-sphere directions (`--fibonacci 2000 --quarter`, items 1, 2, 3) whose end
+    // pose the sampled pointwise test finds without a valid configuration there.
+    let rig = Rig::load("sawyer-seed").unwrap();
+    let mut dirs = seed_dirs();
+    for (k, t, w) in [
+        (0.9320321616790715, 0.00075, 0.362374788162528),
+        (0.6754897665345254, 0.00125, -0.7373683020086585),
+        (0.4424703040121164, 0.00175, 0.8967814491655284),
+    ] {
+        dirs.push(Direction::new(k, t, w).unwrap());
+    }
+    let mut opts = LayoutOptions::around(&rig);
+    opts.region = "0.8:0.8,-0.3:-0.3,-0.145:-0.145".parse().unwrap();
+    opts.placements = 1;
+    let tmp = tempfile::tempdir().unwrap();
+    let rays = |check: bool| {
+        let mut o = opts.clone();
+        o.end_pose_check = check;
+        let out = tmp.path().join(format!("check-{check}"));
+        let rep = run(&rig, &dirs, None, &o, &RunControl::default(), &out)
+            .unwrap()
+            .unwrap();
+        let text = read(&out.join("rays.csv"));
+        let rows: Vec<(String, String)> = text
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f[4].to_string(), f[9].to_string())
+            })
+            .collect();
+        (rep, rows)
+    };
+    let (with, rows_with) = rays(true);
+    let (without, rows_without) = rays(false);
+    assert_eq!(rows_with.len(), dirs.len());
+    // The check decided the three low-τ rays, and the full planner, run on them, agrees that
+    // they are not testable; every other ray is planned, with the same answer.
+    let decided: Vec<usize> = (0..dirs.len())
+        .filter(|&i| rows_with[i].1 == "end_pose")
+        .collect();
+    assert_eq!(decided, vec![5, 6, 7], "{rows_with:?}");
+    for i in 0..dirs.len() {
+        if decided.contains(&i) {
+            assert_eq!(rows_with[i].0, "unreachable");
+            assert_ne!(rows_without[i].0, "testable", "ray {i}: {rows_without:?}");
+        } else {
+            assert_eq!(rows_with[i], rows_without[i], "ray {i}");
+        }
+    }
+    assert_eq!(with.covered, without.covered);
+    assert!(with.covered[0] >= 1, "{:?}", with.covered);
+    assert!(with.decided.contains(&("end_pose".to_string(), 3)));
+    assert!(!without.decided.iter().any(|(k, _)| k == "end_pose"));
+    // The planner's own test directly: valid at the end of every ray it plans testable.
+    let placed = rig.with_clamp_origin([0.8, -0.3, -0.145]).unwrap();
+    let planner = Planner::new(placed).unwrap();
+    for (i, d) in dirs.iter().enumerate() {
+        if rows_without[i].0 == "testable" {
+            let s_star = helixreach::sweep::reach::s_star_of(d, None).unwrap();
+            assert_eq!(planner.end_pose_valid(d, s_star, 0.0).unwrap(), Some(true));
+        }
+    }
+}

@@ -8,15 +8,16 @@
 //! - [`Planner::plan_best`] stops at the first testable azimuth.
 //! - Cheap conservative checks ([`crate::layout::precheck`]) decide rays without planning:
 //!   a straight rod out of reach (the whole placement), a waypoint out of reach on every
-//!   azimuth, an infinite boundary. A placement whose straight rod has no valid configuration
+//!   azimuth, an infinite boundary, and (roll mode `fixed`) no valid configuration at the ray's
+//!   end pose for any azimuth (the planner's sampled pointwise test, with its guarantee). A placement whose straight rod has no valid configuration
 //!   (the planner's own start rung is empty: [`Planner::new`] reports an unreachable clamp) is
 //!   decided by the planner, once, for all its rays.
 //!
 //! # Rows
 //! Columns [`RAYS_HEADER`], keyed by `candidate,dir_kappa,dir_tau,dir_omega`. `class` is the
 //! planner's `testable`/`partial`/`blocked`, or `unreachable` when the reach bound decided
-//! (s_reached then unknown: empty). `decided_by`: `planner`, `clamp` (start rung, once per
-//! placement), `reach_bound`, `no_boundary`.
+//! or the end-pose check decided (s_reached then unknown: empty). `decided_by`: `planner`,
+//! `clamp` (start rung, once per placement), `reach_bound`, `no_boundary`, `end_pose`.
 //!
 //! The sweep runs on [`crate::sweep::driver`]: rows in item order (candidate-major), bitwise
 //! identical for any thread count, checkpointed, resumable and shardable.
@@ -24,7 +25,7 @@
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::layout::candidates::Candidate;
-use crate::layout::precheck::ReachBound;
+use crate::layout::precheck::{end_pose_blocked, ReachBound};
 use crate::math::Real;
 use crate::planning::planner::{Planner, ReachClass};
 use crate::planning::rig::{Rig, RollMode};
@@ -66,6 +67,8 @@ pub struct Sweep<'a> {
     pub roll: RollMode,
     /// Azimuths tried per ray.
     pub azimuths: Vec<Real>,
+    /// Run the end-pose check ([`crate::layout::precheck`]) before planning (roll `fixed`).
+    pub end_pose_check: bool,
     bound: ReachBound,
     slots: Vec<OnceLock<Result<Slot, String>>>,
 }
@@ -75,7 +78,8 @@ pub type Item = (usize, usize);
 
 impl<'a> Sweep<'a> {
     /// Prepare a sweep: s* of every direction (from `table`, else the continuum test, in
-    /// parallel), the reach bound of the rig's robot.
+    /// parallel), the reach bound of the rig's robot. The end-pose check is on
+    /// ([`Sweep::end_pose_check`]).
     pub fn new(
         rig: &'a Rig,
         candidates: &'a [Candidate],
@@ -111,6 +115,7 @@ impl<'a> Sweep<'a> {
             s_star,
             roll,
             azimuths,
+            end_pose_check: true,
             bound,
             slots: candidates.iter().map(|_| OnceLock::new()).collect(),
         })
@@ -198,6 +203,12 @@ impl<'a> Sweep<'a> {
                     .ray_out_of_reach(rig, dir, s_end, &self.azimuths)?
                 {
                     return record("unreachable", None, None, "no_ik", "reach_bound");
+                }
+                if self.end_pose_check
+                    && self.roll == RollMode::Fixed
+                    && end_pose_blocked(planner, dir, s_star, &self.azimuths)?
+                {
+                    return record("unreachable", None, None, "end_pose", "end_pose");
                 }
                 let p = planner.plan_best(dir, s_star, &self.azimuths, self.roll, false)?;
                 record(

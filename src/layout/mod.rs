@@ -76,6 +76,9 @@ pub struct LayoutOptions {
     pub exact_node_limit: u64,
     /// Reference clamp positions (named), evaluated over all directions but never chosen.
     pub references: Vec<Reference>,
+    /// Rule rays out by the sampled end-pose check before planning (roll `fixed`; see
+    /// [`precheck`], "End pose"). On by default; off for comparisons.
+    pub end_pose_check: bool,
 }
 
 /// A reference clamp position: e.g. where the seed ran some of its directions.
@@ -102,6 +105,7 @@ impl LayoutOptions {
             azimuths: None,
             exact_node_limit: EXACT_NODE_LIMIT,
             references: vec![],
+            end_pose_check: true,
         }
     }
 }
@@ -349,7 +353,8 @@ pub fn run(
     }
 
     let rays_path = out_dir.join("rays.csv");
-    let sweep = Sweep::new(&rig, &cands, dirs, table, roll, azimuths.clone())?;
+    let mut sweep = Sweep::new(&rig, &cands, dirs, table, roll, azimuths.clone())?;
+    sweep.end_pose_check = opts.end_pose_check;
     let mut so = SweepOptions::new(
         &rays_path,
         RAYS_HEADER,
@@ -359,7 +364,8 @@ pub fn run(
     so.force = control.force;
     so.shard = control.shard;
     so.progress = control.progress;
-    let so = settings(so, &rig, dirs, &cands, roll, &azimuths, table);
+    let so = settings(so, &rig, dirs, &cands, roll, &azimuths, table)
+        .setting("end_pose_check", opts.end_pose_check.to_string());
     let summary = sweep.run(&so)?;
     eprintln!(
         "layout: {} rays ({} candidates × {} directions; {} computed, {} resumed) -> {}",

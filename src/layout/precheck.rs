@@ -1,8 +1,9 @@
-//! Conservative cheap checks that rule out rays before the full planner runs.
+//! Cheap checks that rule out rays before the full planner runs.
 //!
 //! A check here may only say "not testable" when **no** feasible motion can exist, never when the
-//! planner could find one. Numerical IK failure at a waypoint is *not* such a proof (a local
-//! solver can miss a solution), so it is not used; the checks are geometric bounds:
+//! planner could find one. The geometric bounds below are proofs. One numerical IK miss at a
+//! waypoint is *not* such a proof (a local solver can miss a solution), so it is never used
+//! alone; the end-pose check is the planner's own sampled pointwise test, with its guarantee:
 //!
 //! # Reach bound
 //! Let `p₀` be the origin of the first actuated joint's frame (fixed in the base frame: only fixed
@@ -19,10 +20,27 @@
 //! # No boundary
 //! A ray whose boundary s* is infinite (stable up to the sweep's s_max) is never `testable` by
 //! the planner's definition (nothing to see snap); it is decided without planning.
+//!
+//! # End pose (roll mode `fixed`, 7 joints)
+//! A testable plan ends with a ladder node at the last waypoint s_end = s*·(1 + margin): a
+//! configuration holding that waypoint's rod-end pose, inside the joint and motor limits, free
+//! of self, scene and rod collision. [`end_pose_blocked`] runs the planner's pointwise test
+//! ([`Planner::end_pose_valid`], the test of the pointwise gate: tracks from the straight rod's
+//! start configurations, 60 random restarts, then the redundancy joint locked on a 0.05 rad grid
+//! over its whole range) at that waypoint for every azimuth; when it finds no valid
+//! configuration for any azimuth, the ray is not testable. Guarantee (the gate's): exact
+//! provided the sampled test finds a valid configuration whenever one exists; a valid piece of
+//! the self-motion set narrower than the grid could be missed. Such a ray is written
+//! `unreachable` with cause and `decided_by` `end_pose` (its s_reached is not computed). It
+//! costs one pointwise test per azimuth (most of the time of a ray whose end pose is valid: the
+//! first seed's track) and saves the base plan and the dense levels of a ray that stops before
+//! its end. Roll mode `motor` is not checked (its valid set at a pose is 2-dimensional).
+//! Switched off by `LayoutOptions::end_pose_check` (`--no-end-pose-check`), for comparisons.
 
 use crate::directions::Direction;
 use crate::error::Result;
 use crate::math::{Real, Vec3};
+use crate::planning::planner::Planner;
 use crate::planning::pose_path::{pose_path, Ray, Spacing};
 use crate::planning::rig::Rig;
 use crate::robot::kinematics::LinkMotion;
@@ -110,4 +128,22 @@ impl ReachBound {
         }
         Ok(!azimuths.is_empty())
     }
+}
+
+/// Whether the end-pose check (module docs, "End pose") rules the ray out: for every azimuth the
+/// planner's pointwise test finds no valid configuration at the ray's last waypoint. `false`
+/// when the test does not apply at some azimuth (not 7 joints, s* infinite, no start
+/// configuration) or there are no azimuths.
+pub fn end_pose_blocked(
+    planner: &Planner,
+    dir: &Direction,
+    s_star: Real,
+    azimuths: &[Real],
+) -> Result<bool> {
+    for &a in azimuths {
+        if planner.end_pose_valid(dir, s_star, a)? != Some(false) {
+            return Ok(false);
+        }
+    }
+    Ok(!azimuths.is_empty())
 }

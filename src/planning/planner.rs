@@ -925,6 +925,56 @@ impl Planner {
         Ok(!self.pointwise_valid(w_fail, base.azimuth, base_last, &free, &mut sc)?)
     }
 
+    /// The gate's sampled pointwise test (module docs, "Pointwise gate") at the **last**
+    /// waypoint of the ray `dir` at `azimuth` (s = s*·(1 + margin), the planner's own pose path)
+    /// in roll mode `fixed`, seeded by the straight rod's start configurations. A testable plan
+    /// accepts that waypoint with a node, i.e. a configuration this test looks for, so
+    /// `Some(false)` (none found) means no `fixed` plan at this azimuth is testable — with the
+    /// gate's guarantee: provided the sampled test finds a valid configuration whenever one
+    /// exists. `Some(true)`: one was found. `None`: the test does not apply (not 7 joints, s*
+    /// infinite, no valid start configuration).
+    pub fn end_pose_valid(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuth: Real,
+    ) -> Result<Option<bool>> {
+        if self.dof != 7 || !s_star.is_finite() {
+            return Ok(None);
+        }
+        let Ok(set) = self.start(RollMode::Fixed) else {
+            return Ok(None);
+        };
+        let ray = Ray {
+            dir: [dir.kappa, dir.tau, dir.omega],
+            azimuth,
+        };
+        let s_end = s_star * (1.0 + self.rig.planner.margin);
+        let wps = pose_path(&self.rig, &ray, s_end, &Spacing::of(&self.rig))?;
+        let Some(w_end) = wps.last() else {
+            return Ok(None);
+        };
+        let seeds: Vec<Node> = set
+            .first
+            .iter()
+            .chain(set.others.iter().flatten())
+            .copied()
+            .collect();
+        let free = IkSolver::new(
+            &self.model,
+            IkParams {
+                redundancy_joint: None,
+                restarts: GATE_RESTARTS,
+                max_iterations: 100,
+                ..self.ik.clone()
+            },
+        )?;
+        let mut sc = self.new_scratch();
+        Ok(Some(
+            self.pointwise_valid(w_end, azimuth, &seeds, &free, &mut sc)?,
+        ))
+    }
+
     /// Sampled pointwise test of waypoint `w` in roll mode `fixed`: is there a configuration
     /// that holds its pose (IK), inside the joint and motor limits, free of self, scene and rod
     /// collision? Candidates: tracks from `seeds` and `GATE_RESTARTS` random restarts (all joints

@@ -60,6 +60,10 @@ pub struct Args {
     /// Branch-and-bound node budget per K of the exact cover.
     #[arg(long, default_value_t = helixreach::layout::EXACT_NODE_LIMIT)]
     pub exact_nodes: u64,
+    /// Plan every ray, without the sampled end-pose check (for comparisons; see
+    /// `helixreach::layout::precheck`).
+    #[arg(long)]
+    pub no_end_pose_check: bool,
     /// Process only shard I/N of the (candidate, direction) rays; merge the shards' rays.csv
     /// with `helixreach merge --key-columns 4`, then rerun with --resume.
     #[arg(long)]
@@ -105,6 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => None,
     };
     opts.exact_node_limit = args.exact_nodes;
+    opts.end_pose_check = !args.no_end_pose_check;
     if let Some(p) = &args.reference {
         opts.references = read_references(p, &dirs)?;
     }
