@@ -37,7 +37,7 @@ pub struct RayRecord<'a> {
     /// The boundary s* of the direction (`inf`: no boundary).
     #[serde(serialize_with = "csv_out::real")]
     pub s_star: Real,
-    /// `planner`, `clamp`, `reach_bound` or `no_boundary`.
+    /// `planner`, `clamp`, `reach_bound`, `no_boundary` or `end_pose`.
     pub decided_by: &'static str,
 }
 
