@@ -43,10 +43,10 @@ use crate::helix::Helix;
 use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
 use crate::planning::pose_path::PoseMap;
 use crate::planning::rig::{iso_from, tool_from_director, Rig};
+use crate::records::check::CheckRowRecord;
 use crate::records::trajectory::{joint_column, MOTOR_COLUMN};
 use crate::robot::collision::{BodyRef, Contact};
 use crate::robot::{CollisionModel, CollisionWorkspace, Frame, RobotModel};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// A joint step larger than this (rad, any joint) is a jump.
@@ -835,28 +835,25 @@ impl CheckReport {
 
     /// The per-row CSV: `row,line,s,position_error,rotation_error,joint_step,limit,contacts,
     /// scene_clearance,rod_clearance` (empty fields where not computed; contacts `a|b`
-    /// separated by `;`).
-    pub fn rows_csv(&self) -> String {
-        let mut s = String::from(
-            "row,line,s,position_error,rotation_error,joint_step,limit,contacts,\
-             scene_clearance,rod_clearance\n",
-        );
-        let o = |x: Option<Real>| x.map_or(String::new(), |v| v.to_string());
-        for (i, r) in self.row_checks.iter().enumerate() {
-            let _ = writeln!(
-                s,
-                "{i},{},{},{},{},{},\"{}\",\"{}\",{},{}",
-                r.line,
-                o(r.s),
-                o(r.position_error),
-                o(r.rotation_error),
-                r.joint_step,
-                r.limit.as_deref().unwrap_or(""),
-                r.contacts.join(";"),
-                o(r.scene_clearance),
-                o(r.rod_clearance)
-            );
-        }
-        s
+    /// separated by `;`; a [`CheckRowRecord`] each).
+    pub fn rows_csv(&self) -> Result<String> {
+        let rows: Vec<CheckRowRecord<'_>> = self
+            .row_checks
+            .iter()
+            .enumerate()
+            .map(|(i, r)| CheckRowRecord {
+                row: i,
+                line: r.line,
+                s: r.s,
+                position_error: r.position_error,
+                rotation_error: r.rotation_error,
+                joint_step: r.joint_step,
+                limit: r.limit.as_deref().unwrap_or(""),
+                contacts: r.contacts.join(";"),
+                scene_clearance: r.scene_clearance,
+                rod_clearance: r.rod_clearance,
+            })
+            .collect();
+        crate::records::csv_out::to_csv(&rows)
     }
 }

@@ -80,7 +80,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let rep = checker.check(&traj, &opt)?;
     if let Some(out) = &args.out {
-        helixreach::io::write_atomic(out, rep.rows_csv().as_bytes())?;
+        helixreach::io::write_atomic(out, rep.rows_csv()?.as_bytes())?;
     }
     let mut stdout = std::io::stdout().lock();
     writeln!(stdout, "{}", serde_json::to_string_pretty(&rep.to_json())?)?;
