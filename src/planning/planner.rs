@@ -52,34 +52,43 @@
 //! base rungs costs nothing more; a ray the levels run for pays every level (≈ 0.4 s at k = 16,
 //! 1 s at 32, 5 s at 128 CPU for a ray blocked near its end, release, under load).
 //!
-//! # Pointwise gate (before the dense levels, roll mode `fixed`)
+//! # Pointwise gate (before the dense levels; code in `planner/gate.rs`)
 //! Every level is a full re-plan with rungs k × (components) wide, so a ray no level can
 //! improve would pay all of them for nothing. The gate decides that for rays the base plan
-//! leaves **partial** in roll mode `fixed`: the base stopped inside the regular waypoint
-//! interval (w_i, w_{i+1}] (at w_i or at one of its refinement midpoints). If the end
-//! w_{i+1} has no valid configuration — IK, joint and motor limits, self, scene and rod
-//! collision, the same tests as a ladder node — then no level can accept w_{i+1} (every node of a
-//! rung is such a configuration), so no level is testable and the levels are skipped
-//! (`RayPlan::levels_gated`).
+//! leaves **partial**: the base stopped inside the regular waypoint interval (w_i, w_{i+1}] (at
+//! w_i or at one of its refinement midpoints). If the end w_{i+1} has no valid configuration —
+//! IK, joint and motor limits, self, scene and rod collision, the same tests as a ladder node —
+//! then no level can accept w_{i+1} (every node of a rung is such a configuration), so no level
+//! is testable and the levels are skipped (`RayPlan::levels_gated`).
+//!
+//! The valid set of a pose is sampled:
+//! - **Roll `fixed`** (1-D self-motion): tracks from the base plan's last rung, 60 random
+//!   restarts, and the redundancy joint j0 locked on a 0.05 rad grid over its whole range (each
+//!   value seeded from the 6 candidates nearest in j0) — finer than the 0.18 rad start spacing of
+//!   the default level 32 and equal to the dense reference's grid.
+//! - **Roll `motor`** (2-D: j0 × the roll ψ about the rod tangent): the same candidates with the
+//!   roll free, then j0 locked on the same 0.05 rad grid, each value tracked (roll free) from
+//!   the 6 nearest candidates, and from each distinct solution a walk about the tool axis with
+//!   j0 still locked, full-pose targets every 0.05 rad of ψ around the whole circle, each tracked
+//!   from the previous sample (a walk ends where its track fails: a limit or a singularity). The
+//!   motor angle passes when any 2π-branch of `ω/c − ψ` lies in the motor's range. The grid is
+//!   0.05 rad (j0) × 0.05 rad (ψ), ≈ 122 × 126 points per IK branch for the Sawyer; a rung of
+//!   a motor level holds at most k ≤ 32 tracked nodes per start component.
 //!
 //! What is guaranteed, and what is not:
 //! - **Class**: unchanged, provided the pointwise test finds a valid configuration whenever one
-//!   exists. The test is sampled (`Planner::pointwise_valid`, private): tracks from the base plan's last
-//!   rung, 60 random restarts, and the redundancy joint j0 locked on a 0.05 rad grid over its
-//!   whole range (each value seeded from the 6 candidates nearest in j0) — finer than the
-//!   0.18 rad start spacing of the default level 32 and equal to the dense reference's grid. A
-//!   valid piece of the self-motion set narrower than the grid could be missed.
+//!   exists. A valid piece of the set narrower than the grid, or on an IK branch none of the
+//!   nearest seeds converges to, could be missed.
 //! - **s reached**: a level could still accept refinement midpoints inside (s_reached, w_{i+1})
 //!   (at most `MAX_REFINE` = 4 halvings per interval: the 1/16 points of the interval), so a
 //!   gated ray may report an s_reached short of what the levels would reach, by less than one
 //!   waypoint interval. Measured on 200 quarter-sphere directions (roll `fixed`, margin 0.1): all
 //!   200 classes identical with and without the gate; 2 of the 22 gated rays reach less, by
 //!   0.0045 and 0.0015 (0.06 % and 0.05 % of s).
-//! - Roll mode `motor` runs its levels without the gate (its valid set at a pose is
-//!   2-dimensional; a j0 grid does not sample it); its `fixed` fallback is gated.
 //! - Cost: a gated ray pays the base plan and one pointwise test (≈ 15 ms instead of ≈ 0.3 s for
-//!   a ray blocked early, release, under load). Rays whose base plan stops at a pose with valid
-//!   configurations (a discontinuity, typically blocked near their end) still run every level.
+//!   a ray blocked early in roll `fixed`, release, under load). Rays whose base plan stops at a
+//!   pose with valid configurations (a discontinuity, typically blocked near their end) still
+//!   run every level.
 //!
 //! # Edges
 //! `i → j` exists when every joint step is ≤ `max_joint_step`; its cost is `‖W·Δq‖ +
@@ -103,9 +112,21 @@
 //! at the walk resolution; it does not search components no reachable node lies on.
 //!
 //! # Roll mode `motor` contains `fixed`
-//! Every fixed-roll path is a motor-roll path (roll ψ = 0, motor ω/c). A ray in roll mode
-//! `motor` that the motor-mode ladder does not make testable is also planned in roll mode
-//! `fixed`, and the farther of the two is returned: `motor` never reaches less than `fixed`.
+//! Every fixed-roll path is a motor-roll path (roll ψ = 0, motor ω/c), so a ray in roll mode
+//! `motor` returns the farther of its motor plan and its whole `fixed` plan: `motor` never
+//! reaches less than `fixed`. The order is cheapest first, and the first testable plan ends it:
+//! 1. the motor plan from the first start rung;
+//! 2. the whole `fixed` plan (base, gate, levels; labelled roll `motor`);
+//! 3. the pointwise gate (roll `motor`) at the end of the interval where plan 1 stopped: when it
+//!    finds no valid configuration, no further motor start can pass it, and 4–5 are skipped;
+//! 4. the motor plans from the further start components (in roll `motor` every distinct roll
+//!    of the straight rod's solutions is a component of its own: the seed rig has 76 motor
+//!    start nodes, 8 in the first rung);
+//! 5. the gate again where the farthest of them stopped, and the motor dense levels.
+//!
+//! The class is the same as planning every stage (the gate's sampling caveat aside); a
+//! testable ray may get the `fixed` path where the motor levels would also have found one; a
+//! ray gated at 3 may reach less than stage 4 would, by less than one waypoint interval.
 //!
 //! # Result
 //! The farthest s reached, the class (testable: the whole path to s*·(1 + margin); partial:
@@ -129,6 +150,8 @@ use crate::robot::{
 };
 use std::sync::OnceLock;
 
+mod gate;
+
 /// Halvings of the s-step allowed at one waypoint when its rung cannot be joined.
 const MAX_REFINE: u32 = 4;
 
@@ -137,17 +160,6 @@ const MAX_RECONFIGURATIONS: usize = 64;
 
 /// Most samples of one self-motion walk (one direction from one node).
 const MAX_WALK_SAMPLES: usize = 2_000;
-
-/// Redundancy-joint grid of the pointwise gate (rad): finer than the densest default level's
-/// start spacing (≈ 0.18 rad of self-motion at `dense_samples` = 32) and equal to the dense
-/// reference's grid in `tests/planning_seed.rs`.
-const GATE_GRID: Real = 0.05;
-
-/// Free random restarts of the pointwise gate (all joints free), per pose.
-const GATE_RESTARTS: usize = 60;
-
-/// Seeds tracked per locked redundancy value by the pointwise gate (the nearest in that joint).
-const GATE_LOCK_SEEDS: usize = 6;
 
 /// Reachability class of a ray. The one class type: records read and write it by serde (the
 /// [`ReachClass::as_str`] names).
@@ -733,17 +745,39 @@ impl Planner {
         roll: RollMode,
         want_path: bool,
     ) -> Result<RayPlan> {
-        let native = self.plan_ray_in(dir, s_star, azimuth, roll, want_path)?;
-        if roll == RollMode::Fixed || native.class == ReachClass::Testable {
-            return Ok(native);
+        if roll == RollMode::Fixed {
+            return self.plan_ray_in(dir, s_star, azimuth, roll, want_path);
+        }
+        // Roll `motor` (module docs, "Roll mode `motor` contains `fixed`"): the plan from the
+        // first start rung; the whole `fixed` plan; the gate; the further start components; the
+        // gate and the dense levels.
+        let (first, first_last) = self.plan_first(dir, s_star, azimuth, roll, want_path)?;
+        if first.class == ReachClass::Testable {
+            return Ok(first);
         }
         let mut fixed = self.plan_ray_in(dir, s_star, azimuth, RollMode::Fixed, want_path)?;
-        if fixed.s_reached > native.s_reached {
-            fixed.roll = RollMode::Motor;
-            Ok(fixed)
-        } else {
-            Ok(native)
+        fixed.roll = RollMode::Motor;
+        if fixed.class == ReachClass::Testable {
+            return Ok(fixed);
         }
+        let farther = |native: RayPlan| {
+            if fixed.s_reached > native.s_reached {
+                fixed.clone()
+            } else {
+                native
+            }
+        };
+        if self.level_gate && self.levels_cannot_pass(&first, &first_last)? {
+            let mut first = first;
+            first.levels_gated = true;
+            return Ok(farther(first));
+        }
+        let (base, base_last) = self.plan_others(first, first_last, want_path)?;
+        if base.class == ReachClass::Testable {
+            return Ok(base);
+        }
+        let native = self.plan_levels(base, &base_last, want_path)?;
+        Ok(farther(native))
     }
 
     /// The start configurations (straight rod) of roll mode `roll`: the first start rung, then
@@ -817,8 +851,8 @@ impl Planner {
         )
     }
 
-    /// Plan from the first start rung; when that is not testable, from each further start
-    /// component in turn, keeping the farthest (the first testable ends the search).
+    /// [`Planner::plan_base`], then (when that is not testable) the gate and the dense levels
+    /// ([`Planner::plan_levels`]).
     fn plan_ray_in(
         &self,
         dir: &Direction,
@@ -827,41 +861,88 @@ impl Planner {
         roll: RollMode,
         want_path: bool,
     ) -> Result<RayPlan> {
+        let (best, best_last) = self.plan_base(dir, s_star, azimuth, roll, want_path)?;
+        self.plan_levels(best, &best_last, want_path)
+    }
+
+    /// Plan from the first start rung; when that is not testable, from each further start
+    /// component in turn, keeping the farthest (the first testable ends the search). Returns
+    /// the plan and the last rung it reached.
+    fn plan_base(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<(RayPlan, Vec<Node>)> {
+        let (first, first_last) = self.plan_first(dir, s_star, azimuth, roll, want_path)?;
+        self.plan_others(first, first_last, want_path)
+    }
+
+    /// The plan from the first start rung, and the last rung it reached.
+    fn plan_first(
+        &self,
+        dir: &Direction,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<(RayPlan, Vec<Node>)> {
         let set = self.start(roll).ok();
         let width = self.rig.planner.redundancy_samples;
         let first = set.map_or(&[][..], |s| &s.first[..]);
         let mut last = Vec::new();
-        let mut best_last = Vec::new();
-        let mut best = self.plan_from(
-            dir,
-            s_star,
-            azimuth,
-            roll,
-            want_path,
-            first,
-            width,
-            &mut best_last,
+        let plan = self.plan_from(
+            dir, s_star, azimuth, roll, want_path, first, width, &mut last,
         )?;
+        Ok((plan, last))
+    }
+
+    /// After the plan from the first start rung (`best`, last rung `best_last`): unless it is
+    /// testable, the plans from each further start component in turn, keeping the farthest (the
+    /// first testable ends the search).
+    fn plan_others(
+        &self,
+        mut best: RayPlan,
+        mut best_last: Vec<Node>,
+        want_path: bool,
+    ) -> Result<(RayPlan, Vec<Node>)> {
+        let (dir, s_star, azimuth, roll) = (best.dir, best.s_star, best.azimuth, best.roll);
+        let set = self.start(roll).ok();
+        let width = self.rig.planner.redundancy_samples;
+        let mut last = Vec::new();
         for group in set.map_or(&[][..], |s| &s.others[..]) {
             if best.class == ReachClass::Testable {
                 break;
             }
             let p = self.plan_from(
-                dir, s_star, azimuth, roll, want_path, group, width, &mut last,
+                &dir, s_star, azimuth, roll, want_path, group, width, &mut last,
             )?;
             if p.s_reached > best.s_reached {
                 best = p;
                 std::mem::swap(&mut best_last, &mut last);
             }
         }
-        if self.level_gate
-            && best.class != ReachClass::Testable
-            && 2 * width <= self.rig.planner.dense_samples
-            && self.levels_cannot_pass(&best, &best_last)?
-        {
+        Ok((best, best_last))
+    }
+
+    /// The dense levels after the base plan `base` (last rung `base_last`; module docs), unless
+    /// it is testable or the pointwise gate shows that no level can pass the end of the waypoint
+    /// interval it stopped in. Returns the farthest plan.
+    fn plan_levels(&self, base: RayPlan, base_last: &[Node], want_path: bool) -> Result<RayPlan> {
+        let mut best = base;
+        let width = self.rig.planner.redundancy_samples;
+        if best.class == ReachClass::Testable || 2 * width > self.rig.planner.dense_samples {
+            return Ok(best);
+        }
+        if self.level_gate && self.levels_cannot_pass(&best, base_last)? {
             best.levels_gated = true;
             return Ok(best);
         }
+        let (dir, s_star, azimuth, roll) = (best.dir, best.s_star, best.azimuth, best.roll);
+        let set = self.start(roll).ok();
+        let mut last = Vec::new();
         // Dense levels: nested, denser samplings of every start component.
         let comps = set.map_or(&[][..], |s| &s.comps[..]);
         let mut k = 2 * width;
@@ -871,7 +952,7 @@ impl Planner {
                 .flat_map(|c| c.iter().take(k).copied())
                 .collect();
             let mut p = self.plan_from(
-                dir,
+                &dir,
                 s_star,
                 azimuth,
                 roll,
@@ -890,152 +971,6 @@ impl Planner {
             k *= 2;
         }
         Ok(best)
-    }
-
-    /// The pointwise gate before the dense levels (module docs, "Pointwise gate"): `true` when
-    /// `base` (a partial plan in roll mode `fixed` whose last rung is `base_last`) stopped in a
-    /// regular waypoint interval whose end has no valid configuration in the sampled pointwise
-    /// test ([`Planner::pointwise_valid`]), so no start level can pass that end.
-    fn levels_cannot_pass(&self, base: &RayPlan, base_last: &[Node]) -> Result<bool> {
-        if base.class != ReachClass::Partial || base.roll != RollMode::Fixed || self.dof != 7 {
-            return Ok(false);
-        }
-        let ray = Ray {
-            dir: [base.dir.kappa, base.dir.tau, base.dir.omega],
-            azimuth: base.azimuth,
-        };
-        let wps = pose_path(&self.rig, &ray, base.s_end, &Spacing::of(&self.rig))?;
-        let s_b = base.s_reached;
-        let Some(i) = wps.iter().rposition(|w| w.s <= s_b) else {
-            return Ok(false);
-        };
-        let Some(w_fail) = wps.get(i + 1) else {
-            return Ok(false);
-        };
-        let mut sc = self.new_scratch();
-        let free = IkSolver::new(
-            &self.model,
-            IkParams {
-                redundancy_joint: None,
-                restarts: GATE_RESTARTS,
-                max_iterations: 100,
-                ..self.ik.clone()
-            },
-        )?;
-        Ok(!self.pointwise_valid(w_fail, base.azimuth, base_last, &free, &mut sc)?)
-    }
-
-    /// The gate's sampled pointwise test (module docs, "Pointwise gate") at the **last**
-    /// waypoint of the ray `dir` at `azimuth` (s = s*·(1 + margin), the planner's own pose path)
-    /// in roll mode `fixed`, seeded by the straight rod's start configurations. A testable plan
-    /// accepts that waypoint with a node, i.e. a configuration this test looks for, so
-    /// `Some(false)` (none found) means no `fixed` plan at this azimuth is testable — with the
-    /// gate's guarantee: provided the sampled test finds a valid configuration whenever one
-    /// exists. `Some(true)`: one was found. `None`: the test does not apply (not 7 joints, s*
-    /// infinite, no valid start configuration).
-    pub fn end_pose_valid(
-        &self,
-        dir: &Direction,
-        s_star: Real,
-        azimuth: Real,
-    ) -> Result<Option<bool>> {
-        if self.dof != 7 || !s_star.is_finite() {
-            return Ok(None);
-        }
-        let Ok(set) = self.start(RollMode::Fixed) else {
-            return Ok(None);
-        };
-        let ray = Ray {
-            dir: [dir.kappa, dir.tau, dir.omega],
-            azimuth,
-        };
-        let s_end = s_star * (1.0 + self.rig.planner.margin);
-        let wps = pose_path(&self.rig, &ray, s_end, &Spacing::of(&self.rig))?;
-        let Some(w_end) = wps.last() else {
-            return Ok(None);
-        };
-        let seeds: Vec<Node> = set
-            .first
-            .iter()
-            .chain(set.others.iter().flatten())
-            .copied()
-            .collect();
-        let free = IkSolver::new(
-            &self.model,
-            IkParams {
-                redundancy_joint: None,
-                restarts: GATE_RESTARTS,
-                max_iterations: 100,
-                ..self.ik.clone()
-            },
-        )?;
-        let mut sc = self.new_scratch();
-        Ok(Some(
-            self.pointwise_valid(w_end, azimuth, &seeds, &free, &mut sc)?,
-        ))
-    }
-
-    /// Sampled pointwise test of waypoint `w` in roll mode `fixed`: is there a configuration
-    /// that holds its pose (IK), inside the joint and motor limits, free of self, scene and rod
-    /// collision? Candidates: tracks from `seeds` and `GATE_RESTARTS` random restarts (all joints
-    /// free), then the redundancy joint locked on a `GATE_GRID` grid over its whole range,
-    /// each value tracked from the `GATE_LOCK_SEEDS` candidates nearest in that joint. The first
-    /// valid one ends the test. Sampled: `false` means none was found.
-    fn pointwise_valid(
-        &self,
-        w: &Waypoint,
-        azimuth: Real,
-        seeds: &[Node],
-        free: &IkSolver<'_>,
-        sc: &mut Scratch,
-    ) -> Result<bool> {
-        if !self.motor_ok(w.motor) {
-            return Ok(false);
-        }
-        self.rod_nodes(w.kto, azimuth, &mut sc.rod)?;
-        let target = self.target(&w.tool, RollMode::Fixed);
-        // The seeds themselves also seed the locked runs.
-        let mut cand: Vec<[Real; MAX_DOF]> = seeds.iter().map(|n| n.q).collect();
-        let consider = |q: &[Real], cand: &mut Vec<[Real; MAX_DOF]>, sc: &mut Scratch| {
-            let mut a = [0.0; MAX_DOF];
-            a[..self.dof].copy_from_slice(q);
-            cand.push(a);
-            self.check_config(q, sc).is_ok()
-        };
-        for n in seeds {
-            if let Some(sol) = free.track(&target, &n.q[..self.dof], None) {
-                if consider(sol.joints(), &mut cand, sc) {
-                    return Ok(true);
-                }
-            }
-        }
-        for sol in free.solve_all(&target, &[]) {
-            if consider(sol.joints(), &mut cand, sc) {
-                return Ok(true);
-            }
-        }
-        if cand.is_empty() {
-            return Ok(false);
-        }
-        let j = self.red_joint;
-        let (lo, hi) = (self.model.lower()[j], self.model.upper()[j]);
-        let n = ((hi - lo) / GATE_GRID).floor() as usize;
-        let mut order: Vec<usize> = (0..cand.len()).collect();
-        for g in 0..=n {
-            let v = lo + g as Real * GATE_GRID;
-            order.sort_by(|&a, &b| (cand[a][j] - v).abs().total_cmp(&(cand[b][j] - v).abs()));
-            for &c in order.iter().take(GATE_LOCK_SEEDS) {
-                let seed = cand[c];
-                if let Some(sol) = free.track(&target, &seed[..self.dof], Some((j, v))) {
-                    let mut a = [0.0; MAX_DOF];
-                    a[..self.dof].copy_from_slice(sol.joints());
-                    if self.check_config(&a[..self.dof], sc).is_ok() {
-                        return Ok(true);
-                    }
-                }
-            }
-        }
-        Ok(false)
     }
 
     fn plan_from(
