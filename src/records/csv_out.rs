@@ -101,6 +101,17 @@ pub fn real<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, 
     s.collect_str(&fmt_real(*x))
 }
 
+/// Field adapter: every real of a slice by [`fmt_real`], one field each (a variable number of
+/// columns, e.g. one per joint; the header then comes from [`to_csv_with`]).
+pub fn reals<S: serde::Serializer>(x: &&[Real], s: S) -> std::result::Result<S::Ok, S::Error> {
+    use serde::ser::SerializeSeq;
+    let mut seq = s.serialize_seq(Some(x.len()))?;
+    for v in x.iter() {
+        seq.serialize_element(&fmt_real(*v))?;
+    }
+    seq.end()
+}
+
 /// Field adapter: a real in exponent notation (`1.5e-9`, `0e0`), for error estimates.
 pub fn real_exp<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_str(&format_args!("{x:e}"))

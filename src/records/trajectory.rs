@@ -50,16 +50,6 @@ pub fn trajectory_header(dof: usize) -> Vec<String> {
     h
 }
 
-/// Field adapter: every real of a slice by [`fmt_real`](super::fmt_real), one field each.
-fn reals<S: serde::Serializer>(x: &&[Real], s: S) -> std::result::Result<S::Ok, S::Error> {
-    use serde::ser::SerializeSeq;
-    let mut seq = s.serialize_seq(Some(x.len()))?;
-    for v in x.iter() {
-        seq.serialize_element(&super::fmt_real(*v))?;
-    }
-    seq.end()
-}
-
 /// One sample of a trajectory CSV (columns [`trajectory_header`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TrajectoryRecord<'a> {
@@ -67,7 +57,7 @@ pub struct TrajectoryRecord<'a> {
     #[serde(serialize_with = "csv_out::real")]
     pub t: Real,
     /// Joint angles (rad), one column each.
-    #[serde(serialize_with = "reals")]
+    #[serde(serialize_with = "csv_out::reals")]
     pub q: &'a [Real],
     /// Motor angle (rad).
     #[serde(serialize_with = "csv_out::real")]

@@ -3,6 +3,7 @@
 //! tool-axis angle with `--free-roll`), both measured by FK.
 
 use super::fk::parse_list;
+use helixreach::records::ik::{ik_csv, IkSolutionRecord};
 use helixreach::robot::{pose_from_xyz_wxyz, IkParams, IkSolver, IkTarget, RobotModel};
 use std::io::Write;
 
@@ -59,17 +60,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
-    writeln!(out, "{},position_error,rotation_error", names.join(","))?;
-    for s in &sols {
-        let q: Vec<String> = s.joints().iter().map(|v| v.to_string()).collect();
-        writeln!(
-            out,
-            "{},{:e},{:e}",
-            q.join(","),
-            s.position_error,
-            s.rotation_error
-        )?;
-    }
+    let rows: Vec<IkSolutionRecord<'_>> = sols
+        .iter()
+        .map(|s| IkSolutionRecord {
+            q: s.joints(),
+            position_error: s.position_error,
+            rotation_error: s.rotation_error,
+        })
+        .collect();
+    out.write_all(ik_csv(&names, &rows)?.as_bytes())?;
     out.flush()?;
     eprintln!("{} solutions", sols.len());
     Ok(())
