@@ -9,9 +9,10 @@
 //! - Cheap conservative checks ([`crate::layout::precheck`]) decide rays without planning:
 //!   a straight rod out of reach (the whole placement), a waypoint out of reach on every
 //!   azimuth, an infinite boundary, and (roll mode `fixed`) no valid configuration at the ray's
-//!   end pose for any azimuth (the planner's sampled pointwise test, with its guarantee). A placement whose straight rod has no valid configuration
-//!   (the planner's own start rung is empty: [`Planner::new`] reports an unreachable clamp) is
-//!   decided by the planner, once, for all its rays.
+//!   end pose for any azimuth (the planner's sampled pointwise test, with its guarantee). A
+//!   placement whose straight rod has no valid configuration (the planner's own start rung is
+//!   empty: [`Planner::new`] reports an unreachable clamp) is decided by the planner, once, for
+//!   all its rays.
 //!
 //! # Rows
 //! Columns [`RAYS_HEADER`], keyed by `candidate,dir_kappa,dir_tau,dir_omega`. `class` is the

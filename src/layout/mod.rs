@@ -4,7 +4,7 @@
 //! | module | holds |
 //! |---|---|
 //! | [`candidates`] | the grid of candidate clamp poses over a bench region, tilted clamp axes |
-//! | [`precheck`] | conservative geometric checks that rule rays out before planning |
+//! | [`precheck`] | cheap checks before planning: geometric proofs, the sampled end-pose test |
 //! | [`evaluate`] | the placement × direction sweep (full planner, shared work, resumable) |
 //! | [`set_cover`] | maximum coverage with K placements: greedy, exact branch and bound |
 //! | [`report`] | the output files: candidates, placements, assignment, coverage, rigs, figures |
@@ -13,7 +13,7 @@
 //! 1. Candidates: the grid over [`LayoutOptions::region`] (plus, optionally, reference clamp
 //!    positions such as the seed's hand-chosen ones, evaluated but never chosen).
 //! 2. `rays.csv`: every candidate × direction, decided by the full planner with the rig's
-//!    azimuths and roll mode, or by a conservative cheap check ([`evaluate`]).
+//!    azimuths and roll mode, or by a cheap check ([`evaluate`], [`precheck`]).
 //! 3. Coverage sets per candidate; for every k ≤ K the greedy and the exact maximum coverage
 //!    ([`set_cover`]); the K placements are the exact optimum when it is proven, else greedy's.
 //! 4. Every direction is assigned to the first chosen placement (in order of decreasing marginal
