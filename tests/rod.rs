@@ -883,3 +883,62 @@ fn der_est_error_covers_the_error_on_a_sample() {
     rel.sort_by(|a, b| a.total_cmp(b));
     assert!(rel[rel.len() / 2] < 0.03, "{rel:?}");
 }
+
+/// s* on `d` at n = 100 along a ray seeded like `critical_s` (continuum s* × 0.985), with or
+/// without the search's shortcuts: `(s*, evaluations)`.
+fn der_seeded(d: &Direction, shortcuts: bool) -> (Real, usize) {
+    use helixreach::boundary::continuum;
+    let c = continuum::critical_s(d, 1e-10).unwrap().s_star;
+    let p = DerBoundaryParams::default();
+    let mut ray = DerRay::new(d, &p).unwrap();
+    ray.allow_shortcuts(shortcuts);
+    let r = ray.critical_s_from(0.985 * c, 1.02).unwrap();
+    (r.s_star, ray.work().0)
+}
+
+/// Issue 13 (speed): the shortcuts (a cold start half-way to s*, continuation steps on the
+/// augmented-Lagrangian rod) must find the same s* as the full search — the same equilibria,
+/// reached with less work — on directions of every kind off the κ = 0 band (the κ axis, the
+/// paper's Fig. 2b, a compressed and a stretched helix, a mostly twisted one).
+#[test]
+fn der_shortcuts_find_the_same_s_star_with_less_work() {
+    use helixreach::boundary::continuum;
+    use helixreach::boundary::der::shortcuts_are_safe;
+    for v in [
+        [1.0, 0.0, 0.0],
+        [0.594, 0.698, 0.4],
+        [0.5527, 0.7485, -0.3664],
+        [0.3242, -0.9423, 0.0830],
+        [0.2552, 0.3141, 0.9144],
+    ] {
+        let d = Direction::new(v[0], v[1], v[2]).unwrap();
+        let c = continuum::critical_s(&d, 1e-10).unwrap().s_star;
+        assert!(shortcuts_are_safe(&d, c).unwrap(), "{v:?}");
+        let (full, w_full) = der_seeded(&d, false);
+        let (short, w_short) = der_seeded(&d, true);
+        assert!(
+            ((short - full) / full).abs() < 1e-6,
+            "{v:?}: {short} with shortcuts, {full} without"
+        );
+        assert!(w_short < w_full, "{v:?}: {w_short} vs {w_full} evaluations");
+    }
+}
+
+/// Issue 13: near the κ = 0 plane the augmented-Lagrangian rod of the continuation steps
+/// (k_s = 10⁶) buckles before the penalty rod does, and a cold start half-way to s* landed on a
+/// neighbouring equilibrium of the nearly straight rod: on (0.00125, 0.0874, 0.9962) (the
+/// 2,000-direction half-sphere's) the shortcuts gave s* = 10.077 against the continuum 10.230,
+/// which the continuum check refused. The shortcuts are off there; s* is right to its est_error.
+#[test]
+fn der_near_kappa_zero_takes_no_shortcut_and_is_right() {
+    use helixreach::boundary::continuum;
+    use helixreach::boundary::der::shortcuts_are_safe;
+    let d = Direction::new(0.00125, 0.08742565641558554, 0.996170262605898).unwrap();
+    let c = continuum::critical_s(&d, 1e-10).unwrap().s_star;
+    assert!(!shortcuts_are_safe(&d, c).unwrap());
+    let r = critical_s(&d, &DerBoundaryParams::default()).unwrap();
+    assert!(
+        (r.s_star - c).abs() <= r.est_error && (r.s_star / c - 1.0).abs() < 2e-3,
+        "{r:?} vs {c}"
+    );
+}
