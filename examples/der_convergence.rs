@@ -153,7 +153,7 @@ fn resolution_needed(dirs: &[Direction], reference: &[f64], solved: &[(usize, Ve
     let k = need.len();
     let over = |m: f64| need.iter().filter(|x| x.0 > m).count();
     let (m, per_turn, i) = need[k - 1];
-    let mut per: Vec<f64> = need.iter().map(|x| x.1).collect();
+    let per_max = need.iter().fold(0.0_f64, |a, x| a.max(x.1));
     println!(
         "Edges needed for ≤ 0.1 % (from err at n = {n}, order 2) over {k} directions: median {}, \
          99 % {}, max {m} at {} ({per_turn:.0} edges per turn of the frames there; max over all \
@@ -161,7 +161,7 @@ fn resolution_needed(dirs: &[Direction], reference: &[f64], solved: &[(usize, Ve
         need[k / 2].0,
         need[(99 * k) / 100].0,
         name(&dirs[i]),
-        per.iter().fold(0.0_f64, |a, &b| a.max(b)),
+        per_max,
         over(100.0),
         over(200.0),
     );

@@ -39,7 +39,7 @@
 //! [`critical_s`] takes two shortcuts where they are safe ([`shortcuts_are_safe`]: the
 //! augmented-Lagrangian rod's strain `|n|/10⁶` at most 1 % of the chord shortening δ at the
 //! continuum s*, i.e. everywhere but the band near the κ = 0 plane):
-//! - the ray's first point is a cold start at half the first probe's s (≈ 0.49·s*) instead of
+//! - the ray's first point is a cold start at 0.7× the first probe's s (≈ 0.69·s*) instead of
 //!   s = 1. It is accepted only if its equilibrium is stable and within
 //!   [`BRANCH_DEVIATION`] = 0.02 L of the sampled helix (the helical branch; another branch
 //!   is O(L) away); otherwise the ray restarts from s = 1;
@@ -48,12 +48,19 @@
 //!   warm inverse iterations): a step only predicts the next point. Every bracket point (each
 //!   probe's target, and a step whose inertia is negative, re-solved there) is the full
 //!   evaluation, so the bracket is decided by the penalty rod's inertia alone, as before. A step
-//!   that fails switches the rest of the probe to full evaluations.
+//!   that fails switches the rest of the probe to full evaluations;
+//! - μ at a bracket point takes 3 warm inverse iterations instead of 6.
 //!
-//! On the 2,000-direction half-sphere at n = 100 this halves the equilibria solved before the
-//! first bracket point (≈ 13 per direction instead of ≈ 18 in all) and moves no s* by more than
-//! 3.6·10⁻⁶ relative (the predicate's noise floor on the large-s* band; median 8·10⁻⁹): the same
-//! equilibria, reached differently. [`DerRay::critical_s_from`] (the bifurcation analysis) takes
+//! (Solving the refinement's short steps by Newton on the penalty rod directly, without the
+//! augmented Lagrangian, saved another 15 % of the iterations but made s* at n = 200 on
+//! (0.1213, −0.9129, −0.3898) 8·10⁻⁵ wrong — Newton on the stiff rod near s* can slide onto
+//! a neighbouring equilibrium — and was dropped.)
+//!
+//! On the 2,000-direction half-sphere at n = 100 this takes 12.1 equilibria and 47 Newton
+//! iterations per direction instead of 18.3 and 83 (0.55× the CPU time, back to back under
+//! load), and moves s* by at most 1.5·10⁻⁶ relative (median 8·10⁻⁹), 1.8·10⁻⁵ on one
+//! direction of the large-s* band whose discretization error is 0.6 %: the predicate's noise
+//! floor, the same equilibria reached differently. [`DerRay::critical_s_from`] (the bifurcation analysis) takes
 //! no shortcut unless [`DerRay::allow_shortcuts`] is called. Near the κ = 0 plane the rod of
 //! 10⁶ buckles before the penalty rod does (the compression is taken up by the edges rather than
 //! the helix), and a far cold start can land on a neighbouring equilibrium of the nearly
@@ -182,15 +189,10 @@ const MU_ITERS: usize = 6;
 const SHORTCUT_MU_ITERS: usize = 3;
 /// Inverse iterations for μ at a continuation step (warm start from the previous point).
 const STEP_MU_ITERS: usize = 2;
-/// The first point of a ray is a cold start at `max(COLD_START_S, COLD_FRACTION·s)` for the
-/// first probe s (below it when that is ≤ [`COLD_START_S`]).
+/// With the shortcuts the first point of a ray is a cold start at
+/// `max(COLD_START_S, COLD_FRACTION·s)` for the first probe s (at s itself when that is ≤
+/// [`COLD_START_S`]).
 const COLD_FRACTION: Real = 0.7;
-/// A full evaluation at most this relative distance in s from a full one is solved by Newton on
-/// the penalty rod directly (no augmented Lagrangian), with at most [`DIRECT_MAX_ITERS`]
-/// iterations before falling back to it.
-const DIRECT_STEP: Real = 1e-3;
-/// Newton iterations of the direct solve.
-const DIRECT_MAX_ITERS: usize = 4;
 /// The shortcuts are used where the augmented-Lagrangian rod's strain is at most this fraction
 /// of the chord shortening ([`shortcuts_are_safe`]).
 pub const SHORTCUT_STRAIN_TO_SHORTENING: Real = 0.01;
@@ -335,8 +337,6 @@ pub struct DerRay {
     /// Whether the search may take the shortcuts (a cold start half-way to the first probe,
     /// continuation steps on the augmented-Lagrangian rod): [`DerRay::allow_shortcuts`].
     shortcuts: bool,
-    /// Whether the last converged point is a full evaluation (the relaxed penalty rod).
-    last_full: bool,
 }
 
 /// The outcome of one evaluation along a ray.
@@ -392,7 +392,6 @@ impl DerRay {
             mu_first: Real::NAN,
             mu_last: Real::NAN,
             shortcuts: false,
-            last_full: false,
         })
     }
 
@@ -506,34 +505,6 @@ impl DerRay {
         };
         if !st.update_reference() {
             return Err(not_converged());
-        }
-        if full
-            && self.shortcuts
-            && self.last_full
-            && (s - self.correction_s).abs() <= DIRECT_STEP * self.correction_s
-        {
-            // A short step from a relaxed point: the prediction is inside the penalty rod's own
-            // Newton basin, no augmented Lagrangian needed (module docs, "Continuation").
-            self.rod.reset_stretch_rest_lengths();
-            self.rod.material.stretch = self.params.stretch;
-            let direct = NewtonParams {
-                max_iters: DIRECT_MAX_ITERS,
-                ..self.newton
-            };
-            let mut st_direct = st.clone();
-            let free = self.rod.free_range_clamped();
-            match statics::solve(&self.rod, &mut st_direct, free, &mut self.ws, &direct) {
-                Ok(eq) => {
-                    let ks = self.rod.material.stretch;
-                    for j in 0..self.params.n_edges {
-                        let l = st_direct.edge(j).norm();
-                        self.axial[j] = ks * (l / self.rod.rest_length(j) - 1.0);
-                    }
-                    return Ok(self.finish(s, &init, st_direct, eq.negative, eq.iterations, true));
-                }
-                Err(Error::NotConverged { .. }) => self.newton_iterations += DIRECT_MAX_ITERS,
-                Err(e) => return Err(e),
-            }
         }
         self.rod.material.stretch = self.newton_stretch();
         self.set_axial_forces(scale)?;
@@ -697,7 +668,6 @@ impl DerRay {
             (true, true) => SHORTCUT_MU_ITERS,
             (true, false) => MU_ITERS,
         };
-        self.last_full = full;
         let mu = self
             .ws
             .ldlt
