@@ -43,9 +43,10 @@ const MAX_DIRECTIONS: usize = 100_000;
 /// Largest n accepted.
 const MAX_EDGES: usize = 2_000;
 /// The noise floor of a DER s* (relative): two valid searches of the same s* (with and without
-/// the search's shortcuts, `boundary::der` "Continuation") differ by up to 3.6e-6 at n = 100
-/// on this half-sphere, the stability predicate's resolution (its Hessian holds stretching
-/// entries k_s/ē ≈ 10¹⁰·n/100). An error below it does not measure the discretization, so
+/// the search's shortcuts, `boundary::der` "Continuation") differ by up to 2.5e-6 at n = 100
+/// on the 2,000-direction half-sphere, two variants of the shortcuts by up to 1.5e-5 at
+/// n = 200: the stability predicate's resolution (its Hessian holds stretching entries
+/// k_s/ē ≈ 10¹⁰·n/100). An error below it does not measure the discretization, so
 /// `err(n) ≥ err(n/2)` is also counted only where err(n/2) exceeds it.
 const NOISE_FLOOR: f64 = 1e-5;
 

@@ -36,12 +36,12 @@
 //! ended the search.
 //!
 //! # Continuation
-//! [`critical_s`] takes two shortcuts where they are safe ([`shortcuts_are_safe`]: the
+//! [`critical_s`] takes these shortcuts where they are safe ([`shortcuts_are_safe`]: the
 //! augmented-Lagrangian rod's strain `|n|/10⁶` at most 1 % of the chord shortening δ at the
 //! continuum s*, i.e. everywhere but the band near the κ = 0 plane):
 //! - the ray's first point is a cold start at 0.7× the first probe's s (≈ 0.69·s*) instead of
 //!   s = 1. It is accepted only if its equilibrium is stable and within
-//!   [`BRANCH_DEVIATION`] = 0.02 L of the sampled helix (the helical branch; another branch
+//!   `BRANCH_DEVIATION` = 0.02 L of the sampled helix (the helical branch; another branch
 //!   is O(L) away); otherwise the ray restarts from s = 1;
 //! - the continuation steps between bracket points are solved on the augmented-Lagrangian rod
 //!   only (the inextensible equilibrium to 10⁻⁸, no relaxation to the penalty rod, μ from 2
@@ -56,10 +56,9 @@
 //! (0.1213, −0.9129, −0.3898) 8·10⁻⁵ wrong — Newton on the stiff rod near s* can slide onto
 //! a neighbouring equilibrium — and was dropped.)
 //!
-//! On the 2,000-direction half-sphere at n = 100 this takes 12.1 equilibria and 47 Newton
-//! iterations per direction instead of 18.3 and 83 (0.55× the CPU time, back to back under
-//! load), and moves s* by at most 1.5·10⁻⁶ relative (median 8·10⁻⁹), 1.8·10⁻⁵ on one
-//! direction of the large-s* band whose discretization error is 0.6 %: the predicate's noise
+//! On the 2,000-direction half-sphere at n = 100 this takes 12.1 equilibria and 57 Newton
+//! iterations per direction instead of 18.3 and 83 (0.63× the CPU time, back to back under
+//! load), and moves s* by at most 2.5·10⁻⁶ relative (median 7·10⁻⁹): the predicate's noise
 //! floor, the same equilibria reached differently. [`DerRay::critical_s_from`] (the bifurcation analysis) takes
 //! no shortcut unless [`DerRay::allow_shortcuts`] is called. Near the κ = 0 plane the rod of
 //! 10⁶ buckles before the penalty rod does (the compression is taken up by the edges rather than
@@ -1083,7 +1082,7 @@ pub fn check_resolution(dir: &Direction, s_star: Real, n_edges: usize, c: Real) 
 
 /// Whether the search's shortcuts ([`DerRay::allow_shortcuts`]) are safe on `dir` with
 /// continuum s* `s_star`: the augmented-Lagrangian rod of the continuation steps (stiffness
-/// [`NEWTON_STRETCH`]) models the inextensible rod only where its axial strain `|n|/k_s` is
+/// 10⁶) models the inextensible rod only where its axial strain `|n|/k_s` is
 /// small against the helix's chord shortening δ (at most [`SHORTCUT_STRAIN_TO_SHORTENING`]·δ);
 /// near the κ = 0 plane (a nearly straight, compressed rod) it buckles early and the
 /// continuation must solve the penalty rod of every step.
