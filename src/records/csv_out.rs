@@ -64,6 +64,45 @@ pub fn to_csv<R: CsvRecord>(rows: &[R]) -> Result<String> {
     to_csv_with(R::HEADER, rows)
 }
 
+/// Rows written one at a time to `W` (a large or unbounded output, e.g. stdout): the header
+/// first, then each row as [`to_csv`] writes it.
+pub struct CsvStream<W: std::io::Write> {
+    w: csv::Writer<W>,
+}
+
+impl<W: std::io::Write> std::fmt::Debug for CsvStream<W> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CsvStream").finish_non_exhaustive()
+    }
+}
+
+impl<W: std::io::Write> CsvStream<W> {
+    /// Start a stream: write `header`.
+    pub fn new(out: W, header: &[&str]) -> Result<Self> {
+        let mut w = csv::WriterBuilder::new()
+            .has_headers(false)
+            .from_writer(out);
+        w.write_record(header).map_err(ser_error)?;
+        Ok(CsvStream { w })
+    }
+
+    /// Write one row.
+    pub fn write<R: Serialize>(&mut self, row: &R) -> Result<()> {
+        self.w.serialize(row).map_err(ser_error)
+    }
+
+    /// Flush and give back the writer.
+    pub fn finish(self) -> Result<W> {
+        self.w.into_inner().map_err(ser_error)
+    }
+}
+
+/// Field adapter: a real in exponent notation with 16 digits after the point (`{:.16e}`, 17
+/// significant digits: round-trips, and every row has the same width).
+pub fn real_e16<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("{x:.16e}"))
+}
+
 /// One record as its fields' text (the sweep driver's row), formatted as [`to_csv`] writes them.
 pub fn fields<R: Serialize>(r: &R) -> Result<Vec<String>> {
     let mut w = csv::WriterBuilder::new()

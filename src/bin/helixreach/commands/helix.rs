@@ -4,6 +4,8 @@
 use anyhow::Context;
 use helixreach::helix::{twist_ratio, EndPose, Helix, DEFAULT_NU};
 use helixreach::math::Real;
+use helixreach::records::csv_out::{CsvRecord, CsvStream};
+use helixreach::records::helix_points::HelixPointRecord;
 use helixreach::Error;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -74,14 +76,11 @@ fn pose_json(h: &Helix, p: &EndPose, nu: Real, c: Real, length: Real) -> serde_j
     })
 }
 
-/// The CSV header of `--points` output.
-pub const HEADER: &str = "kappa,tau,omega,px,py,pz,r00,r01,r02,r10,r11,r12,r20,r21,r22,motor_angle";
-
 fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::Result<()> {
     let mut table = helixreach::io::CsvInput::open(path)?;
     let col = |name: &str| table.column(name, "header must contain kappa,tau,omega");
     let cols = [col("kappa")?, col("tau")?, col("omega")?];
-    writeln!(out, "{HEADER}")?;
+    let mut stream = CsvStream::new(out, HelixPointRecord::HEADER)?;
     let mut n_rows = 0usize;
     for (k, rec) in table.reader.records().enumerate() {
         let line = k + 2;
@@ -101,19 +100,21 @@ fn points(path: &Path, length: Real, c: Real, out: &mut impl Write) -> anyhow::R
             bad(&field, e.to_string())
         })?;
         let p = h.end_pose_unchecked(length, c);
-        let mut fields = Vec::with_capacity(16);
-        fields.extend_from_slice(&v);
-        fields.extend_from_slice(p.position.as_slice());
-        for r in rows(&p.material) {
-            fields.extend_from_slice(&r);
-        }
-        fields.push(p.motor_angle);
-        let line_text: Vec<String> = fields.iter().map(|x| format!("{x:.16e}")).collect();
-        writeln!(out, "{}", line_text.join(","))?;
+        stream.write(&HelixPointRecord {
+            kappa: v[0],
+            tau: v[1],
+            omega: v[2],
+            px: p.position.x,
+            py: p.position.y,
+            pz: p.position.z,
+            r: rows(&p.material),
+            motor_angle: p.motor_angle,
+        })?;
         n_rows += 1;
     }
     if n_rows == 0 {
         return Err(table.file_error("no rows after the header".into()).into());
     }
+    stream.finish()?;
     Ok(())
 }
