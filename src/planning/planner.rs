@@ -59,7 +59,10 @@
 //! w_i or at one of its refinement midpoints). If the end w_{i+1} has no valid configuration —
 //! IK, joint and motor limits, self, scene and rod collision, the same tests as a ladder node —
 //! then no level can accept w_{i+1} (every node of a rung is such a configuration), so no level
-//! is testable and the levels are skipped (`RayPlan::levels_gated`).
+//! is testable and the levels are skipped (`RayPlan::levels_gated`). The same test runs again
+//! after each dense level that gets farther than the plans before it, at the interval where
+//! that level stopped: when it passes there is no denser level (they are a full re-plan each,
+//! and could only add refinement midpoints inside that interval).
 //!
 //! The valid set of a pose is sampled:
 //! - **Roll `fixed`** (1-D self-motion): tracks from the base plan's last rung, 60 random
@@ -943,6 +946,7 @@ impl Planner {
         let (dir, s_star, azimuth, roll) = (best.dir, best.s_star, best.azimuth, best.roll);
         let set = self.start(roll).ok();
         let mut last = Vec::new();
+        let mut best_last = base_last.to_vec();
         // Dense levels: nested, denser samplings of every start component.
         let comps = set.map_or(&[][..], |s| &s.comps[..]);
         let mut k = 2 * width;
@@ -962,10 +966,22 @@ impl Planner {
                 &mut last,
             )?;
             p.start_samples = k;
-            if p.s_reached > best.s_reached {
+            let gate_after = p.s_reached > best.s_reached;
+            if gate_after {
                 best = p;
+                std::mem::swap(&mut best_last, &mut last);
             }
             if comps.iter().all(|c| c.len() <= k) {
+                break;
+            }
+            // The gate again where this level got farther: no denser level can pass the end
+            // of the interval it stopped in when that end has no valid configuration.
+            if gate_after
+                && self.level_gate
+                && best.class != ReachClass::Testable
+                && self.levels_cannot_pass(&best, &best_last)?
+            {
+                best.levels_gated = true;
                 break;
             }
             k *= 2;
