@@ -61,8 +61,9 @@
 //! then no level can accept w_{i+1} (every node of a rung is such a configuration), so no level
 //! is testable and the levels are skipped (`RayPlan::levels_gated`). The same test runs again
 //! after each dense level that gets farther than the plans before it, at the interval where
-//! that level stopped: when it passes there is no denser level (they are a full re-plan each,
-//! and could only add refinement midpoints inside that interval).
+//! that level stopped: when that interval's end has no valid configuration the denser levels
+//! are skipped (each is a full re-plan, and could only add refinement midpoints inside that
+//! interval; same guarantee as below).
 //!
 //! The valid set of a pose is sampled:
 //! - **Roll `fixed`** (1-D self-motion): tracks from the base plan's last rung, 60 random
