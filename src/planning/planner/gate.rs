@@ -180,9 +180,7 @@ impl Planner {
         // The seeds themselves also seed the locked runs.
         let mut cand: Vec<[Real; MAX_DOF]> = seeds.iter().map(|n| n.q).collect();
         let consider = |q: &[Real], cand: &mut Vec<[Real; MAX_DOF]>, sc: &mut Scratch| {
-            let mut a = [0.0; MAX_DOF];
-            a[..self.dof].copy_from_slice(q);
-            cand.push(a);
+            cand.push(pad(q));
             self.check_config(q, sc).is_ok()
         };
         for n in seeds {
@@ -210,9 +208,7 @@ impl Planner {
             for &c in order.iter().take(GATE_LOCK_SEEDS) {
                 let seed = cand[c];
                 if let Some(sol) = free.track(&target, &seed[..self.dof], Some((j, v))) {
-                    let mut a = [0.0; MAX_DOF];
-                    a[..self.dof].copy_from_slice(sol.joints());
-                    if self.check_config(&a[..self.dof], sc).is_ok() {
+                    if self.check_config(sol.joints(), sc).is_ok() {
                         return Ok(true);
                     }
                 }
