@@ -21,6 +21,7 @@ pub mod check;
 pub mod clamp_runs;
 pub mod compare;
 pub mod csv_out;
+pub mod disturbances;
 pub mod helix_points;
 pub mod ik;
 pub mod layout;

@@ -1,15 +1,14 @@
 //! `helixreach disturbances`: the seed paper's Fig. 5 study along S̄ = [1,1,1]/√3 (thin glue
 //! over [`helixreach::rod::dynamics::study`]). For each factor (ν, E, L_gb/L, speed, jitter)
-//! writes `DIR/<factor>.csv` with the s–e curve of every value
-//! (`value,t,s,error,energy,s_dyn,s_cross`; the detected point repeated on each row of its
-//! curve, empty when none) and `DIR/summary.csv` (`factor,value,s_dyn,s_cross,shift_rel`,
-//! the shift relative to the base run of the same study); prints the summary as JSON.
+//! writes `DIR/<factor>.csv` with the s–e curve of every value and `DIR/summary.csv` (the
+//! records of [`helixreach::records::disturbances`]); prints the summary as JSON.
 
 use helixreach::math::Real;
+use helixreach::records::csv_out;
+use helixreach::records::disturbances::{sample_records, DisturbanceSummaryRecord};
 use helixreach::rod::dynamics::presets::Preset;
-use helixreach::rod::dynamics::study::{run_study, Factor, Run};
+use helixreach::rod::dynamics::study::{run_study, Factor};
 use helixreach::rod::dynamics::SimParams;
-use std::fmt::Write as _;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -95,39 +94,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         })
         .and_then(|r| r.sim.as_ref().ok())
         .map(|s| s.s_dyn());
-    let mut summary = String::from("factor,value,s_dyn,s_cross,shift_rel\n");
+    let mut summary = Vec::new();
     let mut json_rows = Vec::new();
     for f in &factors {
-        let mut csv = String::from("value,t,s,error,energy,s_dyn,s_cross\n");
-        for r in runs.iter().filter(|r| r.factor == *f) {
-            let (sd, sc) = point(r);
-            let (samples, detection, error) = match &r.sim {
-                Ok(sim) => (&sim.samples[..], sim.detection, None),
-                Err(e) => (&[][..], None, Some(e.clone())),
-            };
-            for x in samples {
-                let _ = writeln!(
-                    csv,
-                    "{},{},{},{},{},{},{}",
-                    r.value, x.t, x.s, x.error, x.energy, sd, sc
-                );
-            }
-            let shift = match (base_s, detection) {
-                (Some(b), Some(d)) if b.is_finite() => format!("{}", d.s_dyn / b - 1.0),
-                _ => String::new(),
-            };
-            let _ = writeln!(summary, "{},{},{},{},{}", f.name(), r.value, sd, sc, shift);
-            json_rows.push(serde_json::json!({
-                "factor": f.name(), "value": finite(r.value),
-                "s_dyn": detection.map(|d| d.s_dyn),
-                "s_cross": detection.map(|d| d.s_cross),
-                "error": error,
-                "shift_rel": shift.parse::<f64>().ok(),
-            }));
-        }
+        let runs_f: Vec<_> = runs.iter().filter(|r| r.factor == *f).collect();
+        let csv = csv_out::to_csv(&sample_records(runs_f.iter().copied()))?;
         helixreach::io::write_atomic(&args.out.join(format!("{}.csv", f.name())), csv.as_bytes())?;
+        for r in runs_f {
+            let m = DisturbanceSummaryRecord::new(r, base_s);
+            json_rows.push(serde_json::json!({
+                "factor": m.factor, "value": finite(m.value),
+                "s_dyn": m.s_dyn,
+                "s_cross": m.s_cross,
+                "error": r.sim.as_ref().err(),
+                "shift_rel": m.shift_rel,
+            }));
+            summary.push(m);
+        }
     }
-    helixreach::io::write_atomic(&args.out.join("summary.csv"), summary.as_bytes())?;
+    helixreach::io::write_atomic(
+        &args.out.join("summary.csv"),
+        csv_out::to_csv(&summary)?.as_bytes(),
+    )?;
     let json = serde_json::json!({
         "direction": [1.0 / 3f64.sqrt(), 1.0 / 3f64.sqrt(), 1.0 / 3f64.sqrt()],
         "preset": args.preset,
@@ -147,11 +135,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 fn finite(x: Real) -> Option<Real> {
     x.is_finite().then_some(x)
-}
-
-fn point(r: &Run) -> (String, String) {
-    match r.sim.as_ref().ok().and_then(|s| s.detection) {
-        Some(d) => (d.s_dyn.to_string(), d.s_cross.to_string()),
-        None => (String::new(), String::new()),
-    }
 }
