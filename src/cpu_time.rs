@@ -14,10 +14,13 @@
 
 use crate::error::{Error, Result};
 
+/// One nanosecond in seconds (the clocks count nanoseconds; a unit, not a tolerance).
+const SECONDS_PER_NANO: f64 = 1e-9;
+
 /// This thread's CPU time in seconds since an arbitrary origin (errors if the OS has no
 /// per-thread CPU clock).
 pub fn thread_cpu_seconds() -> Result<f64> {
-    thread_cpu_nanos().map(|ns| ns as f64 * 1e-9)
+    thread_cpu_nanos().map(|ns| ns as f64 * SECONDS_PER_NANO)
 }
 
 /// This thread's CPU time in nanoseconds since an arbitrary origin: the one reading of the
@@ -38,7 +41,7 @@ pub fn thread_cpu_nanos() -> Result<u64> {
 pub fn process_cpu_seconds() -> Result<f64> {
     #[cfg(unix)]
     return read_clock(libc::CLOCK_PROCESS_CPUTIME_ID, "CLOCK_PROCESS_CPUTIME_ID")
-        .map(|ns| ns as f64 * 1e-9);
+        .map(|ns| ns as f64 * SECONDS_PER_NANO);
     #[cfg(not(unix))]
     Err(Error::invalid(
         "clock",

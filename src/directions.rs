@@ -21,6 +21,11 @@ use crate::error::{Error, Result};
 use crate::math::Real;
 use std::path::Path;
 
+/// Below this norm the sum of squares has lost precision to underflow (its terms fall below
+/// ~1e-308 when the components are below ~1e-154), so [`Direction::new`] normalizes by the
+/// largest component first. A range limit of f64, not a tolerance.
+const SQUARES_SAFE_NORM: Real = 1e-150;
+
 /// A unit direction in (κ, τ, ω) space.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Direction {
@@ -57,7 +62,7 @@ impl Direction {
             ));
         }
         let n = (kappa * kappa + tau * tau + omega * omega).sqrt();
-        if n.is_finite() && n >= 1e-150 {
+        if n.is_finite() && n >= SQUARES_SAFE_NORM {
             return Ok(Direction {
                 kappa: kappa / n,
                 tau: tau / n,

@@ -108,6 +108,7 @@ impl Settings {
     /// The small, fast run (about a minute): fewer directions, coarser rods.
     pub fn quick(rig: &str) -> Settings {
         Settings {
+            // Study settings, each named by its field (documented on `Settings`): not tolerance literals.
             mode: "quick".into(),
             rig: rig.into(),
             threads: rayon::current_num_threads(),
@@ -135,6 +136,7 @@ impl Settings {
     /// The full study (the paper's 58,352 directions; minutes on two cores).
     pub fn full(rig: &str) -> Settings {
         Settings {
+            // Study settings, each named by its field (documented on `Settings`): not tolerance literals.
             mode: "full".into(),
             rig: rig.into(),
             threads: rayon::current_num_threads(),

@@ -25,6 +25,14 @@ use crate::helix::Helix;
 use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
 use crate::planning::rig::{iso_from, tool_from_director, Rig};
 
+/// Smallest adaptive waypoint step, relative to `s_end`: a step this short is taken even when
+/// its joint-space step ratio exceeds 1 (dimensionless).
+const MIN_STEP_REL: Real = 1e-9;
+
+/// Floor of the step ratio in the step-growth rule `h ← h·min(0.9/ratio, 2)` (dimensionless):
+/// a nearly zero ratio then grows the step by the cap 2.
+const RATIO_FLOOR: Real = 1e-3;
+
 /// One waypoint of a pose path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Waypoint {
@@ -133,7 +141,7 @@ pub fn pose_path(rig: &Rig, ray: &Ray, s_end: Real, sp: &Spacing) -> Result<Vec<
         return Ok(out);
     }
     let mut h = s_end / 64.0;
-    let h_min = s_end * 1e-9;
+    let h_min = s_end * MIN_STEP_REL;
     while out.len() < sp.max_waypoints {
         let prev = out.last().expect("non-empty");
         if prev.s >= s_end {
@@ -146,7 +154,7 @@ pub fn pose_path(rig: &Rig, ray: &Ray, s_end: Real, sp: &Spacing) -> Result<Vec<
             h *= 0.5_f64.max(0.9 / ratio);
             continue;
         }
-        h = (s_try - prev.s) * (0.9 / ratio.max(1e-3)).min(2.0);
+        h = (s_try - prev.s) * (0.9 / ratio.max(RATIO_FLOOR)).min(2.0);
         out.push(w);
     }
     Ok(out)

@@ -40,6 +40,10 @@ pub const HOLD_TOLERANCE: Real = 1e-6;
 /// Bisection depth of [`refine`] per walk step (2¹² pieces at most).
 const MAX_REFINE_DEPTH: u32 = 12;
 
+/// [`null_direction`] calls `J` singular when its largest 6×6 minor is at most this (the minors
+/// are in m³: three position rows in m, three angular rows dimensionless).
+const SINGULAR_MINOR: Real = 1e-12;
+
 /// A joint vector.
 pub type Q = [Real; MAX_DOF];
 
@@ -74,7 +78,7 @@ pub fn null_direction(jac: &Jacobian, dof: usize) -> Option<Q> {
         *ni = sign * m.determinant();
     }
     let scale = n.iter().fold(0.0, |a: Real, x| a.max(x.abs()));
-    if !(scale.is_finite() && scale > 1e-12) {
+    if !(scale.is_finite() && scale > SINGULAR_MINOR) {
         return None;
     }
     for x in n.iter_mut() {

@@ -248,7 +248,7 @@ impl Figure for DirectionMap {
                 &font(style::TICK * 0.75).color(&style::darken(style::GREY, 0.3)),
             )?;
             let mut a = a0;
-            while a <= a1 + 1e-9 {
+            while a <= a1 + style::guard::SAME {
                 let t = a.to_radians();
                 root.draw(&PathElement::new(
                     vec![to_px(0.0, 0.0), to_px(t.cos(), t.sin())],

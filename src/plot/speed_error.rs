@@ -76,6 +76,7 @@ impl Figure for SpeedError<'_> {
         let floor = if min_pos.is_finite() {
             10f64.powf(min_pos.log10().floor() - 1.0)
         } else {
+            // No positive error to scale the log axis to: a display default, not a tolerance.
             1e-16
         };
         let any_zero = self

@@ -246,6 +246,7 @@ impl Default for IkParams {
             lock_seeds: 4,
             rng_seed: 0,
             limit_weighting: false,
+            // The default of the named, documented field: not a tolerance literal.
             dedup_tolerance: 1e-3,
         }
     }

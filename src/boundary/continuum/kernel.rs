@@ -112,13 +112,17 @@ pub(crate) fn norm_inf(a: &Gen) -> Real {
         .fold(0.0, Real::max)
 }
 
+/// The bound on the Taylor remainder of `exp` at which [`taylor_terms`] stops (absolute, on a
+/// term of size ≤ 1: below the f64 resolution of the unit-size sum, ≈ 1.1e-16).
+const TAYLOR_REMAINDER: Real = 1e-18;
+
 /// The number of Taylor terms N such that the remainder bound `x^{N+1}/(N+1)!` of
-/// `exp` at `‖hA‖ = x` is below 1e-18 (at most `cap`).
+/// `exp` at `‖hA‖ = x` is below [`TAYLOR_REMAINDER`] (at most `cap`).
 pub(crate) fn taylor_terms(x: Real, cap: usize) -> usize {
     let mut term = 1.0;
     for k in 1..=cap {
         term *= x / k as Real;
-        if term < 1e-18 {
+        if term < TAYLOR_REMAINDER {
             return k;
         }
     }

@@ -108,6 +108,10 @@ pub const GREENHILL_X1: Real = 4.493_409_457_909_064;
 /// Default scan step in arc length of the unit-direction helix.
 pub const DEFAULT_STEP: Real = 0.2;
 
+/// [`is_stable`] scans to `s·(1 + IS_STABLE_SLACK)`, just past the point asked about, so that a
+/// conjugate time at `s` itself is inside the scan (relative).
+const IS_STABLE_SLACK: Real = 1e-9;
+
 /// The critical distance along a ray and its estimated error.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CriticalS {
@@ -288,7 +292,7 @@ pub fn is_stable(kappa: Real, tau: Real, omega: Real) -> Result<bool> {
     let dir = Direction::new(kappa, tau, omega)?;
     let p = ContinuumParams {
         // Scan only as far as needed: a conjugate time beyond s does not matter.
-        s_max: (s * (1.0 + 1e-9)).min(tol::S_MAX),
+        s_max: (s * (1.0 + IS_STABLE_SLACK)).min(tol::S_MAX),
         ..ContinuumParams::default()
     };
     let r = critical_s_with(&dir, &p)?;

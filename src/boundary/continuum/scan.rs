@@ -11,6 +11,14 @@ use crate::math::Real;
 /// Most Taylor terms used inside one refinement window.
 const MAX_TERMS: usize = 40;
 
+/// The golden-section search for a hidden minimum of the ratio stops when its bracket is below
+/// `MIN_BRACKET_REL · max(tol_rel, TOL_REL_FLOOR) · t` (or after 80 steps): a bracket a thousandth
+/// of the root tolerance wide (dimensionless).
+const MIN_BRACKET_REL: Real = 1e-3;
+
+/// Floor of `tol_rel` in that bracket width (dimensionless), so that `tol_rel = 0` still stops.
+const TOL_REL_FLOOR: Real = 1e-12;
+
 /// A normalized `|det J|` (Hadamard ratio of the top block of a near-orthonormal frame) below
 /// this counts as a zero: a double root (tangency) of `det J` resolved to machine precision.
 pub(crate) const TANGENCY: Real = 1e-13;
@@ -180,7 +188,7 @@ impl Window {
                 d = a + phi * (b - a);
                 gd = g(d);
             }
-            if b - a <= 1e-3 * tol_rel.max(1e-12) * (self.t0 + a) {
+            if b - a <= MIN_BRACKET_REL * tol_rel.max(TOL_REL_FLOOR) * (self.t0 + a) {
                 break;
             }
         }

@@ -253,13 +253,17 @@ impl Layout {
     }
 }
 
+/// A 1-2-5 length within this of `x` (relative) counts as not above it: the rounding of
+/// `log10`/`powf` must not turn `x = 2·10ᵏ` into `10ᵏ`.
+const NICE_SLACK: Real = 1e-12;
+
 /// The largest 1-2-5 length (1, 2 or 5 times a power of ten) not above `x` > 0.
 fn nice_below(x: Real) -> Real {
     let mag = 10f64.powf(x.log10().floor());
     [5.0, 2.0, 1.0]
         .into_iter()
         .map(|m| m * mag)
-        .find(|l| *l <= x * (1.0 + 1e-12))
+        .find(|l| *l <= x * (1.0 + NICE_SLACK))
         .unwrap_or(mag)
 }
 

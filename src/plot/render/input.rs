@@ -354,6 +354,13 @@ pub fn select_frames(rows: &[Row], sel: FrameSelection) -> Result<Vec<FrameChoic
     Ok(out)
 }
 
+/// [`resolve_azimuth`] recovers the azimuth from the rod ends only when the helix end's offset
+/// from the clamp axis exceeds this (units of L; a straight rod has no azimuth to see).
+const MIN_END_OFFSET: Real = 1e-6;
+
+/// A recovered azimuth smaller than this (rad) is round-off and shown as 0.
+const ZERO_AZIMUTH: Real = 1e-12;
+
 /// The azimuth of the rows on `scene`'s rig (see the module docs): the `azimuth` column, else
 /// recovered from the rod ends, else `fallback`.
 pub fn resolve_azimuth(scene: &super::Scene, rows: &[Row], fallback: Real) -> Result<Real> {
@@ -377,8 +384,8 @@ pub fn resolve_azimuth(scene: &super::Scene, rows: &[Row], fallback: Real) -> Re
     }
     Ok(match best {
         // Round-off around 0 is 0 (no "−0.000" in titles).
-        Some((m, a)) if m > 1e-6 => {
-            if a.abs() < 1e-12 {
+        Some((m, a)) if m > MIN_END_OFFSET => {
+            if a.abs() < ZERO_AZIMUTH {
                 0.0
             } else {
                 a

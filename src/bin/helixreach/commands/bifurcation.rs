@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long)]
     pub no_return: bool,
     /// Relative resolution of s_return.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = helixreach::bifurcation::RETURN_TOL_REL)]
     pub return_tol: Real,
     /// Rod diameter (units of L) for the self-contact check of the far branch (default: the
     /// seed's nitinol rod, 3.175e-3).
@@ -100,7 +100,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         der: DerBoundaryParams {
             n_edges: a.n_edges,
             nu: a.nu,
-            tol_rel: 1e-7,
+            tol_rel: helixreach::bifurcation::S_STAR_TOL_REL,
             ..DerBoundaryParams::default()
         },
         statics_return: !a.no_return,

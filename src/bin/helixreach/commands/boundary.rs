@@ -224,12 +224,18 @@ const REPEATS: usize = 3;
 /// the per-direction time is far above the clock's resolution (1 ns for the thread CPU clock).
 const MIN_PASS_SECONDS: f64 = 0.05;
 
+/// Tolerance of the speed report's continuum reference s* (relative; with a 4× finer scan step).
+const REFERENCE_TOL_REL: Real = 1e-13;
+
+/// The continuum tolerances the speed report measures, coarse to fine (relative).
+const CONTINUUM_TOL_SWEEP: [Real; 5] = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
+
 /// Time per direction (single-thread CPU time, best of [`REPEATS`] passes) and error versus a tight
-/// continuum reference (tolerance 1e-13, a 4× finer scan step).
+/// continuum reference ([`REFERENCE_TOL_REL`], a 4× finer scan step).
 fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()> {
     let reference = ContinuumParams {
         nu: a.nu,
-        tol_rel: 1e-13,
+        tol_rel: REFERENCE_TOL_REL,
         step: continuum::DEFAULT_STEP / 4.0,
         ..ContinuumParams::default()
     };
@@ -238,10 +244,7 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
         .map(|d| continuum::critical_s_with(d, &reference).map(|r| r.s_star))
         .collect::<helixreach::Result<_>>()?;
     let resolutions: Vec<(Real, usize)> = match a.method {
-        Method::Continuum => [1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
-            .iter()
-            .map(|&t| (t, 0))
-            .collect(),
+        Method::Continuum => CONTINUUM_TOL_SWEEP.iter().map(|&t| (t, 0)).collect(),
         Method::Der => [25, 50, 100, 200].iter().map(|&n| (a.tol, n)).collect(),
     };
     let method = method_name(a.method);

@@ -51,7 +51,6 @@ fn simulate(m: &[Measured], method: Method, n_edges: usize) -> anyhow::Result<Ve
     }
     let p = der::DerBoundaryParams {
         n_edges,
-        tol_rel: 1e-8,
         ..der::DerBoundaryParams::default()
     };
     let s: Vec<helixreach::Result<Real>> = m

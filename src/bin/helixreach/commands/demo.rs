@@ -117,6 +117,7 @@ fn write_reports(run: &StudyReport, out: &std::path::Path) -> anyhow::Result<()>
 
 fn num(v: &Value) -> String {
     match v.as_f64() {
+        // Where the report switches to exponent notation (a display range, not a tolerance).
         Some(x) if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) => format!("{x:.3e}"),
         Some(x) if x.fract() == 0.0 => format!("{x}"),
         Some(x) => format!("{x:.4}"),

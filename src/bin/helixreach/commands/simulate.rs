@@ -36,6 +36,7 @@ pub struct Args {
     #[arg(long, default_value_t = 40)]
     n_edges: usize,
     /// Time step Δt (s).
+    // A time step (the default of `SimParams::dt`), not a tolerance.
     #[arg(long, default_value_t = 2e-3, allow_negative_numbers = true)]
     dt: Real,
     /// Gravity g = 9.81 m/s² along −z of the clamp frame (the rod points up, as in the seed rig).
