@@ -301,9 +301,7 @@ pub fn der_check(
             }
             cpu += secs;
             check_rows.push(DerCheckRecord {
-                dir_kappa: r.dir.kappa,
-                dir_tau: r.dir.tau,
-                dir_omega: r.dir.omega,
+                dir: (&r.dir).into(),
                 s_star_continuum: r.s_star,
                 n_edges: n,
                 s_star_der: *s,

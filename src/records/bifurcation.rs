@@ -3,6 +3,7 @@
 //! fields; `reason` is empty unless the type is `degenerate`.
 
 use super::csv_out::{self, CsvRecord};
+use super::DirColumns;
 use crate::bifurcation::Bifurcation;
 use crate::directions::Direction;
 use crate::math::Real;
@@ -10,15 +11,8 @@ use crate::math::Real;
 /// One direction's bifurcation type and its numbers.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct BifurcationRecord {
-    /// κ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_kappa: Real,
-    /// τ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_tau: Real,
-    /// ω̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_omega: Real,
+    /// The direction (`dir_kappa,dir_tau,dir_omega`).
+    pub dir: DirColumns,
     /// DER s* at the survey's resolution.
     #[serde(serialize_with = "csv_out::real_or_empty")]
     pub s_star: Real,
@@ -59,9 +53,7 @@ impl BifurcationRecord {
     /// The record of direction `d` classified as `b` at `resolution`.
     pub fn new(d: &Direction, b: &Bifurcation, resolution: &str) -> Self {
         BifurcationRecord {
-            dir_kappa: d.kappa,
-            dir_tau: d.tau,
-            dir_omega: d.omega,
+            dir: d.into(),
             s_star: b.s_star,
             kind: b.kind.name(),
             coefficient: b.coefficient,

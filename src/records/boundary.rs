@@ -4,6 +4,7 @@
 //! (`der_check.csv`, one [`DerCheckRecord`] per direction and resolution).
 
 use super::csv_out::{self, CsvRecord};
+use super::DirColumns;
 use crate::directions::Direction;
 use crate::math::Real;
 
@@ -11,15 +12,8 @@ use crate::math::Real;
 /// is `s*·S̄` with `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct BoundaryRecord<'a> {
-    /// κ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_kappa: Real,
-    /// τ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_tau: Real,
-    /// ω̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_omega: Real,
+    /// The direction (`dir_kappa,dir_tau,dir_omega`).
+    pub dir: DirColumns,
     /// Critical distance s* (`inf`: stable up to the search limit).
     #[serde(serialize_with = "csv_out::real")]
     pub s_star: Real,
@@ -67,9 +61,7 @@ impl<'a> BoundaryRecord<'a> {
     ) -> Self {
         let scaled = |c: Real| if c == 0.0 { 0.0 } else { s_star * c };
         BoundaryRecord {
-            dir_kappa: d.kappa,
-            dir_tau: d.tau,
-            dir_omega: d.omega,
+            dir: d.into(),
             s_star,
             kappa: scaled(d.kappa),
             tau: scaled(d.tau),
@@ -84,15 +76,8 @@ impl<'a> BoundaryRecord<'a> {
 /// One (direction, DER resolution) of the demo's DER check against the continuum boundary.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct DerCheckRecord {
-    /// κ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_kappa: Real,
-    /// τ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_tau: Real,
-    /// ω̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_omega: Real,
+    /// The direction (`dir_kappa,dir_tau,dir_omega`).
+    pub dir: DirColumns,
     /// The continuum s* (the reference).
     #[serde(serialize_with = "csv_out::real")]
     pub s_star_continuum: Real,
@@ -152,9 +137,11 @@ mod tests {
         let r = BoundaryRecord::new(&d, 6.25, "der", "n=100", 0.0);
         assert_eq!(fields(&r).unwrap()[9], format!("{:e}", 0.0));
         let c = DerCheckRecord {
-            dir_kappa: 0.6,
-            dir_tau: 0.8,
-            dir_omega: 0.0,
+            dir: DirColumns {
+                dir_kappa: 0.6,
+                dir_tau: 0.8,
+                dir_omega: 0.0,
+            },
             s_star_continuum: 7.0,
             n_edges: 30,
             s_star_der: Real::NAN,

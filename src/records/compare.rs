@@ -3,21 +3,15 @@
 //! Directions without a simulated value have empty `s_sim`, `err`, `signed_diff`.
 
 use super::csv_out::{self, CsvRecord};
+use super::DirColumns;
 use crate::compare::ComparisonRow;
 use crate::math::Real;
 
 /// One measured direction against its simulated value.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct ComparisonRecord {
-    /// κ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_kappa: Real,
-    /// τ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_tau: Real,
-    /// ω̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_omega: Real,
+    /// The direction (`dir_kappa,dir_tau,dir_omega`).
+    pub dir: DirColumns,
     /// Measured s.
     #[serde(serialize_with = "csv_out::real")]
     pub s_measured: Real,
@@ -47,9 +41,7 @@ impl CsvRecord for ComparisonRecord {
 impl From<&ComparisonRow> for ComparisonRecord {
     fn from(r: &ComparisonRow) -> Self {
         ComparisonRecord {
-            dir_kappa: r.dir.kappa,
-            dir_tau: r.dir.tau,
-            dir_omega: r.dir.omega,
+            dir: (&r.dir).into(),
             s_measured: r.s_measured,
             s_sim: r.s_sim,
             err: r.err,

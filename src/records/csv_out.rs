@@ -121,18 +121,158 @@ pub fn fields<R: Serialize>(r: &R) -> Result<Vec<String>> {
     Ok(rec.iter().map(str::to_string).collect())
 }
 
-/// The serde field names of `r` in order (to check a [`CsvRecord::HEADER`]).
+/// The column names of `r` in order (to check a [`CsvRecord::HEADER`]): its serde field names,
+/// a nested struct's names in its place (where the csv writer puts its values).
 pub fn field_names<R: Serialize>(r: &R) -> Result<Vec<String>> {
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(true)
-        .from_writer(Vec::new());
-    w.serialize(r).map_err(ser_error)?;
-    let bytes = w.into_inner().map_err(ser_error)?;
-    let mut rd = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .from_reader(bytes.as_slice());
-    let h = rd.headers().map_err(ser_error)?;
-    Ok(h.iter().map(str::to_string).collect())
+    let mut n = names::Names::default();
+    r.serialize(&mut n).map_err(ser_error)?;
+    Ok(n.names)
+}
+
+/// A serializer that records field names instead of values (the csv crate's header writer
+/// refuses nested structs, its row writer writes their fields in place).
+mod names {
+    use serde::ser::{self, Impossible, Serialize};
+
+    #[derive(Debug)]
+    pub struct NamesError(String);
+
+    impl std::fmt::Display for NamesError {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str(&self.0)
+        }
+    }
+
+    impl std::error::Error for NamesError {}
+
+    impl ser::Error for NamesError {
+        fn custom<T: std::fmt::Display>(msg: T) -> Self {
+            NamesError(msg.to_string())
+        }
+    }
+
+    type Res = Result<(), NamesError>;
+    type No = Impossible<(), NamesError>;
+
+    /// The names seen so far, and the field whose value is being serialized.
+    #[derive(Debug, Default)]
+    pub struct Names {
+        pub names: Vec<String>,
+        key: Option<&'static str>,
+    }
+
+    impl Names {
+        /// A value with one column: the current field's name.
+        fn leaf(&mut self) -> Res {
+            let k = self
+                .key
+                .take()
+                .ok_or_else(|| not_a_column("a value outside a struct"))?;
+            self.names.push(k.to_string());
+            Ok(())
+        }
+    }
+
+    fn not_a_column(what: &str) -> NamesError {
+        NamesError(format!(
+            "{what} has no column name (give the header to to_csv_with)"
+        ))
+    }
+
+    macro_rules! leaves {
+        ($($f:ident: $t:ty),*) => {
+            $(fn $f(self, _: $t) -> Res { self.leaf() })*
+        };
+    }
+
+    impl ser::Serializer for &mut Names {
+        type Ok = ();
+        type Error = NamesError;
+        type SerializeSeq = No;
+        type SerializeTuple = No;
+        type SerializeTupleStruct = No;
+        type SerializeTupleVariant = No;
+        type SerializeMap = No;
+        type SerializeStruct = Self;
+        type SerializeStructVariant = No;
+
+        leaves!(serialize_bool: bool, serialize_i8: i8, serialize_i16: i16, serialize_i32: i32,
+            serialize_i64: i64, serialize_u8: u8, serialize_u16: u16, serialize_u32: u32,
+            serialize_u64: u64, serialize_f32: f32, serialize_f64: f64, serialize_char: char,
+            serialize_str: &str, serialize_bytes: &[u8], serialize_unit_struct: &'static str);
+
+        fn serialize_none(self) -> Res {
+            self.leaf()
+        }
+        fn serialize_some<T: ?Sized + Serialize>(self, v: &T) -> Res {
+            v.serialize(self)
+        }
+        fn serialize_unit(self) -> Res {
+            self.leaf()
+        }
+        fn serialize_unit_variant(self, _: &'static str, _: u32, _: &'static str) -> Res {
+            self.leaf()
+        }
+        fn serialize_newtype_struct<T: ?Sized + Serialize>(self, _: &'static str, v: &T) -> Res {
+            v.serialize(self)
+        }
+        fn serialize_newtype_variant<T: ?Sized + Serialize>(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: &T,
+        ) -> Res {
+            self.leaf()
+        }
+        fn serialize_seq(self, _: Option<usize>) -> Result<No, NamesError> {
+            Err(not_a_column("a sequence"))
+        }
+        fn serialize_tuple(self, _: usize) -> Result<No, NamesError> {
+            Err(not_a_column("a tuple"))
+        }
+        fn serialize_tuple_struct(self, _: &'static str, _: usize) -> Result<No, NamesError> {
+            Err(not_a_column("a tuple struct"))
+        }
+        fn serialize_tuple_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: usize,
+        ) -> Result<No, NamesError> {
+            Err(not_a_column("a tuple variant"))
+        }
+        fn serialize_map(self, _: Option<usize>) -> Result<No, NamesError> {
+            Err(not_a_column("a map"))
+        }
+        fn serialize_struct(self, _: &'static str, _: usize) -> Result<Self, NamesError> {
+            // A nested struct: its fields name the columns, not the field holding it.
+            self.key = None;
+            Ok(self)
+        }
+        fn serialize_struct_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: usize,
+        ) -> Result<No, NamesError> {
+            Err(not_a_column("a struct variant"))
+        }
+    }
+
+    impl ser::SerializeStruct for &mut Names {
+        type Ok = ();
+        type Error = NamesError;
+        fn serialize_field<T: ?Sized + Serialize>(&mut self, key: &'static str, v: &T) -> Res {
+            self.key = Some(key);
+            v.serialize(&mut **self)
+        }
+        fn end(self) -> Res {
+            Ok(())
+        }
+    }
 }
 
 /// Field adapter: a real by [`fmt_real`] (`#[serde(serialize_with = "csv_out::real")]`).
@@ -182,7 +322,7 @@ mod tests {
     use crate::records::bifurcation::BifurcationRecord;
     use crate::records::compare::ComparisonRecord;
     use crate::records::series::{PhasedSeriesRecord, SeriesRecord};
-    use crate::records::SpeedErrorRow;
+    use crate::records::{DirColumns, SpeedErrorRow};
 
     fn header_matches<R: CsvRecord>(r: &R) {
         assert_eq!(field_names(r).unwrap(), R::HEADER, "header vs serde fields");
@@ -205,17 +345,16 @@ mod tests {
     #[test]
     fn headers_name_the_fields_in_order() {
         header_matches(&series());
-        let s = series();
-        header_matches(&PhasedSeriesRecord {
-            t: s.t,
-            s: s.s,
-            kappa: s.kappa,
-            tau: s.tau,
-            omega: s.omega,
-            error: s.error,
-            energy: s.energy,
+        // A nested record: the sample's columns in place, then the phase.
+        let phased = PhasedSeriesRecord {
+            sample: series(),
             phase: "unload",
-        });
+        };
+        header_matches(&phased);
+        assert_eq!(
+            fields(&phased).unwrap(),
+            [fields(&series()).unwrap(), vec!["unload".into()]].concat()
+        );
         header_matches(&SpeedErrorRow {
             method: "der".into(),
             resolution: "n=100".into(),
@@ -224,18 +363,22 @@ mod tests {
             median_rel_err: 0.0,
         });
         header_matches(&ComparisonRecord {
-            dir_kappa: 1.0,
-            dir_tau: 0.0,
-            dir_omega: 0.0,
+            dir: DirColumns {
+                dir_kappa: 1.0,
+                dir_tau: 0.0,
+                dir_omega: 0.0,
+            },
             s_measured: 6.3,
             s_sim: None,
             err: Some(0.01),
             signed_diff: None,
         });
         header_matches(&BifurcationRecord {
-            dir_kappa: 0.6,
-            dir_tau: 0.8,
-            dir_omega: 0.0,
+            dir: DirColumns {
+                dir_kappa: 0.6,
+                dir_tau: 0.8,
+                dir_omega: 0.0,
+            },
             s_star: 7.0,
             kind: "degenerate",
             coefficient: Real::NAN,
@@ -250,9 +393,11 @@ mod tests {
             upper: 3.05,
         });
         header_matches(&crate::records::reach::ReachRecord {
-            dir_kappa: 0.6,
-            dir_tau: 0.8,
-            dir_omega: 0.0,
+            dir: DirColumns {
+                dir_kappa: 0.6,
+                dir_tau: 0.8,
+                dir_omega: 0.0,
+            },
             s_star: 7.1,
             s_reached: 7.8,
             class: "testable",
@@ -265,6 +410,42 @@ mod tests {
             reconfigurations: 0,
             bifurcation: "any",
         });
+    }
+
+    /// A nested struct's names stand in its place; a field without a column name (a sequence)
+    /// is an error, not a wrong header.
+    #[test]
+    fn field_names_flatten_nested_structs() {
+        #[derive(Serialize)]
+        struct Keyed {
+            dir: DirColumns,
+            #[serde(rename = "type")]
+            kind: &'static str,
+            n: Option<usize>,
+        }
+        let k = Keyed {
+            dir: DirColumns {
+                dir_kappa: 1.0,
+                dir_tau: 0.0,
+                dir_omega: 0.0,
+            },
+            kind: "x",
+            n: None,
+        };
+        assert_eq!(
+            field_names(&k).unwrap(),
+            ["dir_kappa", "dir_tau", "dir_omega", "type", "n"]
+        );
+        assert_eq!(fields(&k).unwrap(), ["1", "0", "0", "x", ""]);
+        #[derive(Serialize)]
+        struct Ragged {
+            q: Vec<f64>,
+        }
+        let e = field_names(&Ragged { q: vec![1.0] })
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("sequence"), "{e}");
+        assert!(field_names(&1.0).is_err());
     }
 
     /// Numbers are written as the hand-written writers did (`{}` of f64: the shortest text that
@@ -291,9 +472,11 @@ mod tests {
     #[test]
     fn empty_values_quoting_and_no_rows() {
         let c = ComparisonRecord {
-            dir_kappa: 1.0,
-            dir_tau: 0.0,
-            dir_omega: 0.0,
+            dir: DirColumns {
+                dir_kappa: 1.0,
+                dir_tau: 0.0,
+                dir_omega: 0.0,
+            },
             s_measured: 6.5,
             s_sim: None,
             err: None,
@@ -301,9 +484,11 @@ mod tests {
         };
         assert_eq!(fields(&c).unwrap(), ["1", "0", "0", "6.5", "", "", ""]);
         let b = BifurcationRecord {
-            dir_kappa: 0.6,
-            dir_tau: 0.8,
-            dir_omega: 0.0,
+            dir: DirColumns {
+                dir_kappa: 0.6,
+                dir_tau: 0.8,
+                dir_omega: 0.0,
+            },
             s_star: Real::NAN,
             kind: "degenerate",
             coefficient: Real::NAN,

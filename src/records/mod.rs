@@ -70,7 +70,37 @@ pub const BOUNDARY_HEADER: &[&str] = boundary::BoundaryRecord::HEADER;
 /// Columns of a reachability CSV ([`reach::ReachRecord`]).
 pub const REACH_HEADER: &[&str] = reach::ReachRecord::HEADER;
 
-/// The key columns of a direction (`dir_kappa,dir_tau,dir_omega`).
+/// The key columns of a row keyed by direction: `dir_kappa,dir_tau,dir_omega`, the unit S̄ by
+/// [`fmt_real`]. Records hold it as a nested field; the csv writer puts its columns in place
+/// (it cannot serialize `#[serde(flatten)]`, a map, but writes a nested struct's fields).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct DirColumns {
+    /// κ̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_kappa: Real,
+    /// τ̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_tau: Real,
+    /// ω̂ of the direction.
+    #[serde(serialize_with = "csv_out::real")]
+    pub dir_omega: Real,
+}
+
+impl CsvRecord for DirColumns {
+    const HEADER: &'static [&'static str] = &["dir_kappa", "dir_tau", "dir_omega"];
+}
+
+impl From<&Direction> for DirColumns {
+    fn from(d: &Direction) -> Self {
+        DirColumns {
+            dir_kappa: d.kappa,
+            dir_tau: d.tau,
+            dir_omega: d.omega,
+        }
+    }
+}
+
+/// The key columns of a direction ([`DirColumns`]) as text.
 pub fn dir_key(d: &Direction) -> Vec<String> {
     vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)]
 }

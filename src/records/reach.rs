@@ -5,21 +5,15 @@
 //! [`crate::sweep::reach`]).
 
 use super::csv_out::{self, CsvRecord};
+use super::DirColumns;
 use crate::math::Real;
 use crate::planning::planner::RayPlan;
 
 /// One planned ray of a reachability CSV.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ReachRecord {
-    /// κ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_kappa: Real,
-    /// τ̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_tau: Real,
-    /// ω̂ of the direction.
-    #[serde(serialize_with = "csv_out::real")]
-    pub dir_omega: Real,
+    /// The direction (`dir_kappa,dir_tau,dir_omega`).
+    pub dir: DirColumns,
     /// The boundary s* (`inf`: none).
     #[serde(serialize_with = "csv_out::real")]
     pub s_star: Real,
@@ -71,9 +65,7 @@ impl CsvRecord for ReachRecord {
 impl From<&RayPlan> for ReachRecord {
     fn from(p: &RayPlan) -> Self {
         ReachRecord {
-            dir_kappa: p.dir.kappa,
-            dir_tau: p.dir.tau,
-            dir_omega: p.dir.omega,
+            dir: (&p.dir).into(),
             s_star: p.s_star,
             s_reached: p.s_reached,
             class: p.class.as_str(),

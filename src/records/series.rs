@@ -52,30 +52,13 @@ impl From<&Sample> for SeriesRecord {
     }
 }
 
-/// One sample of a series with unloading: [`SeriesRecord`] and its phase.
+/// One sample of a series with unloading: [`SeriesRecord`] and its phase. The csv writer puts a
+/// nested struct's fields in place (it cannot serialize `#[serde(flatten)]`, a map), so the
+/// row is the sample's seven columns and then `phase`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct PhasedSeriesRecord {
-    /// Time (s).
-    #[serde(serialize_with = "csv_out::real")]
-    pub t: Real,
-    /// Distance along the ray.
-    #[serde(serialize_with = "csv_out::real")]
-    pub s: Real,
-    /// κ = s·κ̂.
-    #[serde(serialize_with = "csv_out::real")]
-    pub kappa: Real,
-    /// τ = s·τ̂.
-    #[serde(serialize_with = "csv_out::real")]
-    pub tau: Real,
-    /// ω = s·ω̂.
-    #[serde(serialize_with = "csv_out::real")]
-    pub omega: Real,
-    /// Helix error e.
-    #[serde(serialize_with = "csv_out::real")]
-    pub error: Real,
-    /// Elastic energy (J).
-    #[serde(serialize_with = "csv_out::real")]
-    pub energy: Real,
+    /// The sample's columns.
+    pub sample: SeriesRecord,
     /// `load`, `hold` or `unload`.
     pub phase: &'static str,
 }
@@ -89,13 +72,7 @@ impl CsvRecord for PhasedSeriesRecord {
 impl From<&Sample> for PhasedSeriesRecord {
     fn from(x: &Sample) -> Self {
         PhasedSeriesRecord {
-            t: x.t,
-            s: x.s,
-            kappa: x.kappa,
-            tau: x.tau,
-            omega: x.omega,
-            error: x.error,
-            energy: x.energy,
+            sample: x.into(),
             phase: x.phase.name(),
         }
     }
