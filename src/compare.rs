@@ -1,4 +1,4 @@
-//! Measured versus simulated stability boundaries (the seed paper's comparison, DESIGN.md §7).
+//! Measured versus simulated stability boundaries (the seed paper's comparison, [architecture §7](crate::architecture)).
 //!
 //! Per measured direction S̄ with measured snap distance `s_measured` and a simulated boundary
 //! `s_sim` on the same ray:

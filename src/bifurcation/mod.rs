@@ -1,4 +1,4 @@
-//! Snap or gradual departure: the type of the bifurcation at each ray's s* (DESIGN.md §7), from
+//! Snap or gradual departure: the type of the bifurcation at each ray's s* ([architecture §7](crate::architecture)), from
 //! DER statics, and the hysteresis of subcritical rays.
 //!
 //! | module | holds |

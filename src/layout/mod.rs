@@ -1,4 +1,4 @@
-//! Rig layout (DESIGN.md §8): where to put the clamp so that the robot can test a whole
+//! Rig layout ([architecture §8](crate::architecture)): where to put the clamp so that the robot can test a whole
 //! direction set, and which directions to run from each placement.
 //!
 //! | module | holds |
