@@ -621,7 +621,7 @@ fn size_parameters_are_bounded_with_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o.csv");
     let out = s(&out);
-    let cases: [(&[&str], &[&str]); 8] = [
+    let cases: [(&[&str], &[&str]); 10] = [
         (
             &[
                 "simulate",
@@ -711,6 +711,23 @@ fn size_parameters_are_bounded_with_clear_errors() {
                 out,
             ],
             &["--checkpoint-secs", "1e300"],
+        ),
+        // Every sweep command reads its direction set by the same arguments (commands::args).
+        (
+            &["layout", "--fibonacci", "100000000000", "--out", out],
+            &["--fibonacci", "100000000000", "10000000"],
+        ),
+        (
+            &[
+                "reach",
+                "--fibonacci",
+                "4",
+                "--checkpoint-secs",
+                "NaN",
+                "--out",
+                out,
+            ],
+            &["--checkpoint-secs", "NaN", "helixreach::limits"],
         ),
     ];
     for (args, needles) in cases {

@@ -11,31 +11,26 @@
 //! checkpointed, resumable (same settings) and shardable through `helixreach::sweep::driver`;
 //! an existing `--out` is replaced only with `--force`.
 
+use super::args::{checkpoint_interval, DirectionArgs};
 use super::boundary::dir_key;
-use anyhow::{bail, Context};
+use anyhow::Context;
 use helixreach::bifurcation::{classify, Bifurcation, BifurcationParams};
 use helixreach::boundary::der::DerBoundaryParams;
-use helixreach::directions::{self, Direction};
+use helixreach::directions::Direction;
 use helixreach::math::Real;
 use helixreach::records::bifurcation::BifurcationRecord;
 use helixreach::records::csv_out::{self, CsvRecord};
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Arguments of `helixreach bifurcation`.
 #[derive(Debug, clap::Args)]
 #[command(group(clap::ArgGroup::new("dirs").required(true).args(["directions", "fibonacci"])))]
 pub struct Args {
-    /// Directions from a CSV with columns dir_kappa,dir_tau,dir_omega.
-    #[arg(long)]
-    pub directions: Option<PathBuf>,
-    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0.
-    #[arg(long)]
-    pub fibonacci: Option<usize>,
-    /// With --fibonacci: the quarter κ ≥ 0, τ > 0 used by the experiment.
-    #[arg(long, requires = "fibonacci")]
-    pub quarter: bool,
+    /// The direction set.
+    #[command(flatten)]
+    pub dirs: DirectionArgs,
     /// Number of DER edges.
     #[arg(long, default_value_t = 100)]
     pub n_edges: usize,
@@ -77,25 +72,12 @@ pub fn row(d: &Direction, b: &Bifurcation, resolution: &str) -> helixreach::Resu
 
 /// Run `helixreach bifurcation`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    use helixreach::limits::{check_size, MAX_CHECKPOINT_SECS, MAX_DIRECTIONS, MAX_N_EDGES};
+    use helixreach::limits::{check_size, MAX_N_EDGES};
     // Cheap checks first: a bad output path or size fails before any computation.
     check_size("--n-edges", a.n_edges, MAX_N_EDGES)?;
     helixreach::io::check_output(&a.out)?;
-    if !(a.checkpoint_secs.is_finite() && (0.0..=MAX_CHECKPOINT_SECS).contains(&a.checkpoint_secs))
-    {
-        bail!(
-            "invalid --checkpoint-secs {}: must be in 0..={MAX_CHECKPOINT_SECS} (helixreach::limits)",
-            helixreach::error::fmt_num(a.checkpoint_secs)
-        );
-    }
-    let dirs = match (&a.directions, a.fibonacci) {
-        (Some(p), _) => directions::read_csv(p)?,
-        (None, Some(n)) => {
-            directions::fibonacci(check_size("--fibonacci", n, MAX_DIRECTIONS)?, a.quarter)?
-        }
-        (None, None) => bail!("give --directions FILE.csv or --fibonacci N"),
-    };
-    check_size("directions", dirs.len(), MAX_DIRECTIONS)?;
+    let checkpoint = checkpoint_interval(a.checkpoint_secs)?;
+    let dirs = a.dirs.load()?;
     let p = BifurcationParams {
         der: DerBoundaryParams {
             n_edges: a.n_edges,
@@ -121,7 +103,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     opts.resume = a.resume;
     opts.force = a.force;
     opts.shard = a.shard;
-    opts.checkpoint_interval = Duration::from_secs_f64(a.checkpoint_secs);
+    opts.checkpoint_interval = checkpoint;
     opts.progress = true;
     let t0 = Instant::now();
     let summary = driver::run(

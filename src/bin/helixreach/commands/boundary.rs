@@ -16,14 +16,15 @@
 //! `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` (rows of other methods
 //! already in FILE are kept).
 
+use super::args::{checkpoint_interval, DirectionArgs};
 use anyhow::{bail, Context};
 use helixreach::boundary::continuum::{self, ContinuumParams, CriticalS};
 use helixreach::boundary::der;
-use helixreach::directions::{self, Direction};
+use helixreach::directions::Direction;
 use helixreach::math::Real;
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 pub use helixreach::records::BOUNDARY_HEADER as HEADER;
 
@@ -46,16 +47,9 @@ pub struct Args {
     /// Number of DER edges (method der), at most helixreach::limits::MAX_N_EDGES.
     #[arg(long, default_value_t = 100)]
     pub n_edges: usize,
-    /// Directions from a CSV with columns dir_kappa,dir_tau,dir_omega.
-    #[arg(long)]
-    pub directions: Option<PathBuf>,
-    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0 (N at most
-    /// helixreach::limits::MAX_DIRECTIONS).
-    #[arg(long)]
-    pub fibonacci: Option<usize>,
-    /// With --fibonacci: the quarter κ ≥ 0, τ > 0 used by the experiment.
-    #[arg(long, requires = "fibonacci")]
-    pub quarter: bool,
+    /// The direction set.
+    #[command(flatten)]
+    pub dirs: DirectionArgs,
     /// Poisson's ratio ν (c = 1/(1+ν)); the boundary does not depend on it.
     #[arg(long, default_value_t = 0.33, allow_negative_numbers = true)]
     pub nu: Real,
@@ -96,18 +90,6 @@ fn row(
     resolution: &str,
 ) -> helixreach::Result<Vec<String>> {
     helixreach::records::boundary_row(d, r.s_star, method, resolution, r.est_error)
-}
-
-/// The direction set the arguments select.
-fn load_directions(a: &Args) -> anyhow::Result<Vec<Direction>> {
-    Ok(match (&a.directions, a.fibonacci) {
-        (Some(p), _) => directions::read_csv(p)?,
-        (None, Some(n)) => {
-            helixreach::limits::check_size("--fibonacci", n, helixreach::limits::MAX_DIRECTIONS)?;
-            directions::fibonacci(n, a.quarter)?
-        }
-        (None, None) => bail!("give --directions FILE.csv or --fibonacci N"),
-    })
 }
 
 /// A solver for one direction: `(s*, resolution label)`.
@@ -169,16 +151,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     for p in a.out.iter().chain(&a.speed_report) {
         helixreach::io::check_output(p)?;
     }
-    if !(a.checkpoint_secs.is_finite()
-        && (0.0..=helixreach::limits::MAX_CHECKPOINT_SECS).contains(&a.checkpoint_secs))
-    {
-        bail!(
-            "invalid --checkpoint-secs {}: must be in 0..={} (helixreach::limits)",
-            helixreach::error::fmt_num(a.checkpoint_secs),
-            helixreach::limits::MAX_CHECKPOINT_SECS
-        );
-    }
-    let dirs = load_directions(&a)?;
+    let checkpoint = checkpoint_interval(a.checkpoint_secs)?;
+    let dirs = a.dirs.load()?;
     if let Some(report) = &a.speed_report {
         return speed_report(&a, &dirs, report);
     }
@@ -197,7 +171,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     opts.resume = a.resume;
     opts.force = a.force;
     opts.shard = a.shard;
-    opts.checkpoint_interval = Duration::from_secs_f64(a.checkpoint_secs);
+    opts.checkpoint_interval = checkpoint;
     opts.progress = true;
     let t0 = Instant::now();
     let summary = driver::run(

@@ -2,7 +2,7 @@
 //! test (full planner), the K placements that cover the most, the assignment of directions to
 //! placements, one rig file per placement, figures (see `helixreach::layout`).
 
-use helixreach::directions::{fibonacci, read_csv};
+use super::args::DirectionArgs;
 use helixreach::layout::candidates::{parse_tilts, Region};
 use helixreach::layout::{read_references, run as run_layout, LayoutOptions, RunControl};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
@@ -16,15 +16,9 @@ pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]
     pub rig: String,
-    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0.
-    #[arg(long, conflicts_with = "directions")]
-    pub fibonacci: Option<usize>,
-    /// With --fibonacci: only the quarter τ > 0.
-    #[arg(long, requires = "fibonacci")]
-    pub quarter: bool,
-    /// Directions from a CSV (`dir_kappa,dir_tau,dir_omega`).
-    #[arg(long)]
-    pub directions: Option<PathBuf>,
+    /// The direction set.
+    #[command(flatten)]
+    pub dirs: DirectionArgs,
     /// Candidate region `x0:x1,y0:y1,z0:z1` (m, robot base frame); default ±0.15 m in x and y
     /// around the rig's clamp, at its height.
     #[arg(long, allow_hyphen_values = true)]
@@ -87,11 +81,7 @@ pub struct Args {
 
 /// Run `helixreach layout`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let dirs = match (&args.fibonacci, &args.directions) {
-        (Some(n), None) => fibonacci(*n, args.quarter)?,
-        (None, Some(p)) => read_csv(p)?,
-        _ => anyhow::bail!("give exactly one of --fibonacci N or --directions FILE"),
-    };
+    let dirs = args.dirs.load()?;
     let rig = Rig::load(&args.rig)?;
     let mut opts = LayoutOptions::around(&rig);
     if let Some(r) = &args.region {

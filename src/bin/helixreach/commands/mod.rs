@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+pub mod args;
 pub mod bifurcation;
 pub mod boundary;
 pub mod check;

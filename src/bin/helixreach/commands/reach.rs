@@ -1,7 +1,7 @@
 //! `helixreach reach`: the reachability sweep of a rig over a direction set
 //! (see `helixreach::sweep::reach`).
 
-use helixreach::directions::{fibonacci, read_csv};
+use super::args::{checkpoint_interval, DirectionArgs};
 use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
 use helixreach::sweep::driver::{Shard, SweepOptions};
@@ -14,15 +14,9 @@ pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]
     pub rig: String,
-    /// A Fibonacci lattice of N directions on the half-sphere κ ≥ 0.
-    #[arg(long, conflicts_with = "directions")]
-    pub fibonacci: Option<usize>,
-    /// With --fibonacci: only the quarter τ > 0 (the experiment's).
-    #[arg(long, requires = "fibonacci")]
-    pub quarter: bool,
-    /// Directions from a CSV (`dir_kappa,dir_tau,dir_omega`).
-    #[arg(long)]
-    pub directions: Option<PathBuf>,
+    /// The direction set.
+    #[command(flatten)]
+    pub dirs: DirectionArgs,
     /// s* per direction from a `helixreach boundary` CSV (default: computed, continuum).
     #[arg(long)]
     pub boundary: Option<PathBuf>,
@@ -70,21 +64,13 @@ pub struct Args {
 
 /// Run `helixreach reach`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    use helixreach::limits::{check_size, MAX_AZIMUTHS, MAX_CHECKPOINT_SECS, MAX_DIRECTIONS};
+    use helixreach::limits::{check_size, MAX_AZIMUTHS};
     helixreach::io::check_output(&args.out)?;
     if let Some(n) = args.azimuths {
         check_size("--azimuths", n, MAX_AZIMUTHS)?;
     }
-    anyhow::ensure!(
-        (0.0..=MAX_CHECKPOINT_SECS).contains(&args.checkpoint_secs),
-        "invalid --checkpoint-secs {}: must be in 0..={MAX_CHECKPOINT_SECS}",
-        helixreach::error::fmt_num(args.checkpoint_secs)
-    );
-    let dirs = match (&args.fibonacci, &args.directions) {
-        (Some(n), None) => fibonacci(check_size("--fibonacci", *n, MAX_DIRECTIONS)?, args.quarter)?,
-        (None, Some(p)) => read_csv(p)?,
-        _ => anyhow::bail!("give exactly one of --fibonacci N or --directions FILE"),
-    };
+    let checkpoint = checkpoint_interval(args.checkpoint_secs)?;
+    let dirs = args.dirs.load()?;
     let rig = super::plan::overrides(args.margin, args.clamp.as_deref(), args.no_reconfiguration)?
         .apply(&Rig::load(&args.rig)?)
         .map_err(|e| anyhow::anyhow!("--margin / --clamp: {e}"))?;
@@ -104,7 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut sweep = SweepOptions::new(&args.out, REACH_HEADER, 3);
     sweep.resume = args.resume;
     sweep.force = args.force;
-    sweep.checkpoint_interval = std::time::Duration::from_secs_f64(args.checkpoint_secs);
+    sweep.checkpoint_interval = checkpoint;
     sweep.shard = args.shard;
     sweep.progress = !args.quiet;
     let go = || run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep);
