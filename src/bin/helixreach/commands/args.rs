@@ -1,9 +1,12 @@
-//! Arguments shared by the sweep commands (`boundary`, `bifurcation`, `reach`, `layout`),
-//! flattened into each command's `Args`.
+//! Arguments shared by several commands, flattened into each command's `Args`: the direction
+//! set of the sweeps (`boundary`, `bifurcation`, `reach`, `layout`), the checkpoint interval, the
+//! rig overrides of `plan` and `reach`.
 
 use anyhow::bail;
 use helixreach::directions::{self, Direction};
 use helixreach::limits::{check_size, MAX_CHECKPOINT_SECS, MAX_DIRECTIONS};
+use helixreach::planning::planner::RigOverrides;
+use helixreach::planning::rig::Rig;
 use std::path::PathBuf;
 
 /// The direction set: `--directions FILE` or `--fibonacci N [--quarter]`.
@@ -46,4 +49,36 @@ pub fn checkpoint_interval(secs: f64) -> anyhow::Result<std::time::Duration> {
         );
     }
     Ok(std::time::Duration::from_secs_f64(secs))
+}
+
+/// Overrides of a rig's settings for one run.
+#[derive(Debug, clap::Args)]
+pub struct RigOverrideArgs {
+    /// Drive the rod to s*·(1 + M) (overrides the rig's `planner.margin`; 0 = to the boundary).
+    #[arg(long)]
+    pub margin: Option<f64>,
+    /// Clamp position `x,y,z` in the robot base frame (m), overriding the rig's `clamp.origin`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub clamp: Option<String>,
+    /// Forbid self-motion reconfiguration at a held pose (overrides the rig's
+    /// `planner.allow_reconfiguration`).
+    #[arg(long)]
+    pub no_reconfiguration: bool,
+}
+
+impl RigOverrideArgs {
+    /// `rig` with the overrides applied (errors name the flag).
+    pub fn apply(&self, rig: &Rig) -> anyhow::Result<Rig> {
+        let o = RigOverrides {
+            margin: self.margin,
+            clamp: self
+                .clamp
+                .as_deref()
+                .map(|c| helixreach::planning::rig::parse_xyz("--clamp", c))
+                .transpose()?,
+            allow_reconfiguration: self.no_reconfiguration.then_some(false),
+        };
+        o.apply(rig)
+            .map_err(|e| anyhow::anyhow!("--margin / --clamp: {e}"))
+    }
 }

@@ -3,9 +3,10 @@
 //! load to s*·(1 + margin), hold, unload along the same path (a `phase` column marks them and the
 //! self-motion reconfigurations).
 
+use super::args::RigOverrideArgs;
 use anyhow::Context;
 use helixreach::directions::Direction;
-use helixreach::planning::planner::{Planner, RigOverrides};
+use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::sweep::reach::s_star_of;
 use std::path::PathBuf;
@@ -32,16 +33,9 @@ pub struct Args {
     /// most the rig's `max_waypoints`.
     #[arg(long)]
     pub waypoints: Option<usize>,
-    /// Drive the rod to s*·(1 + M) (overrides the rig's `planner.margin`; 0 = to the boundary).
-    #[arg(long)]
-    pub margin: Option<f64>,
-    /// Clamp position `x,y,z` in the robot base frame (m), overriding the rig's `clamp.origin`.
-    #[arg(long, allow_hyphen_values = true)]
-    pub clamp: Option<String>,
-    /// Forbid self-motion reconfiguration at a held pose (overrides the rig's
-    /// `planner.allow_reconfiguration`).
-    #[arg(long)]
-    pub no_reconfiguration: bool,
+    /// Overrides of the rig's settings.
+    #[command(flatten)]
+    pub overrides: RigOverrideArgs,
     /// Output trajectory CSV.
     #[arg(long)]
     pub out: PathBuf,
@@ -64,20 +58,6 @@ fn parse_direction(s: &str) -> anyhow::Result<Direction> {
 }
 
 /// The rig overrides of `--margin`, `--clamp` and `--no-reconfiguration`.
-pub fn overrides(
-    margin: Option<f64>,
-    clamp: Option<&str>,
-    no_reconfiguration: bool,
-) -> anyhow::Result<RigOverrides> {
-    Ok(RigOverrides {
-        margin,
-        clamp: clamp
-            .map(|c| helixreach::planning::rig::parse_xyz("--clamp", c))
-            .transpose()?,
-        allow_reconfiguration: no_reconfiguration.then_some(false),
-    })
-}
-
 /// Run `helixreach plan`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     helixreach::io::check_output(&args.out)?;
@@ -86,9 +66,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let dir = parse_direction(&args.direction)?;
     let rig = Rig::load(&args.rig)?;
-    let mut rig = overrides(args.margin, args.clamp.as_deref(), args.no_reconfiguration)?
-        .apply(&rig)
-        .context("--margin / --clamp")?;
+    let mut rig = args.overrides.apply(&rig)?;
     if let Some(n) = args.waypoints {
         let max = rig.planner.max_waypoints;
         anyhow::ensure!(

@@ -1,7 +1,7 @@
 //! `helixreach reach`: the reachability sweep of a rig over a direction set
 //! (see `helixreach::sweep::reach`).
 
-use super::args::{checkpoint_interval, DirectionArgs};
+use super::args::{checkpoint_interval, DirectionArgs, RigOverrideArgs};
 use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
 use helixreach::sweep::driver::{Shard, SweepOptions};
@@ -27,16 +27,9 @@ pub struct Args {
     /// azimuth choices).
     #[arg(long)]
     pub azimuths: Option<usize>,
-    /// Drive the rod to s*·(1 + M) (overrides the rig's `planner.margin`; 0 = to the boundary).
-    #[arg(long)]
-    pub margin: Option<f64>,
-    /// Clamp position `x,y,z` in the robot base frame (m), overriding the rig's `clamp.origin`.
-    #[arg(long, allow_hyphen_values = true)]
-    pub clamp: Option<String>,
-    /// Forbid self-motion reconfiguration at a held pose (overrides the rig's
-    /// `planner.allow_reconfiguration`).
-    #[arg(long)]
-    pub no_reconfiguration: bool,
+    /// Overrides of the rig's settings.
+    #[command(flatten)]
+    pub overrides: RigOverrideArgs,
     /// Process only shard I/N (0-based) of the directions.
     #[arg(long)]
     pub shard: Option<Shard>,
@@ -71,9 +64,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let checkpoint = checkpoint_interval(args.checkpoint_secs)?;
     let dirs = args.dirs.load()?;
-    let rig = super::plan::overrides(args.margin, args.clamp.as_deref(), args.no_reconfiguration)?
-        .apply(&Rig::load(&args.rig)?)
-        .map_err(|e| anyhow::anyhow!("--margin / --clamp: {e}"))?;
+    let rig = args.overrides.apply(&Rig::load(&args.rig)?)?;
     let opts = ReachOptions {
         roll: args.roll.unwrap_or(rig.roll),
         azimuths: match args.azimuths {
