@@ -305,6 +305,41 @@ fn a_region_out_of_reach_is_reported_not_an_error() {
     assert!(tmp.path().join("heatmap.png").is_file());
 }
 
+/// The placement kind the sweep reports (what decides a placement's rays) agrees with the
+/// reach bound and the planner asked directly, and with the rows it writes.
+#[test]
+fn placement_kind_agrees_with_the_planner_and_the_rows() {
+    use helixreach::layout::evaluate::{PlacementKind, Sweep};
+    let rig = Rig::load("sawyer-seed").unwrap();
+    let dirs = vec![seed_dirs()[0]];
+    let at = |x: f64, y: f64, z: f64| Candidate {
+        origin: [x, y, z],
+        tilt: 0.0,
+        heading: 0.0,
+    };
+    let o = rig.clamp.translation.vector;
+    // Far away; a corner of the seed grid whose straight rod has no valid configuration
+    // (session 3 and 6 runs); the rig's own clamp.
+    let cands = vec![at(3.0, 0.0, 0.0), at(0.9, -0.35, -0.145), at(o.x, o.y, o.z)];
+    let sweep = Sweep::new(&rig, &cands, &dirs, None, rig.roll, rig.azimuths.clone()).unwrap();
+    let kinds: Vec<PlacementKind> = (0..3).map(|c| sweep.placement_kind(c).unwrap()).collect();
+    assert_eq!(
+        kinds,
+        vec![
+            PlacementKind::OutOfReach,
+            PlacementKind::NoStart,
+            PlacementKind::Ready
+        ]
+    );
+    assert!(sweep.bound().straight_out_of_reach(&cands[0].place(&rig)));
+    let err = Planner::new(cands[1].place(&rig)).unwrap_err().to_string();
+    assert!(err.contains("unreachable clamp"), "{err}");
+    assert!(Planner::new(cands[2].place(&rig)).is_ok());
+    // Rows of the placements decided once: their decided_by says so.
+    assert_eq!(sweep.row(&(0, 0)).unwrap()[9], "reach_bound");
+    assert_eq!(sweep.row(&(1, 0)).unwrap()[9], "clamp");
+}
+
 #[test]
 fn bad_input_is_a_clear_error() {
     let rig = Rig::load("sawyer-seed").unwrap();

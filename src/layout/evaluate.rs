@@ -53,6 +53,17 @@ enum Slot {
     Ready(Box<Planner>),
 }
 
+/// How a placement's rays are decided ([`Sweep::placement_kind`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlacementKind {
+    /// The straight rod ends outside the reach bound: every ray `unreachable`, no planning.
+    OutOfReach,
+    /// The straight rod has no valid configuration: every ray `blocked`, decided once.
+    NoStart,
+    /// A planner with a start rung: rays are checked and planned one by one.
+    Ready,
+}
+
 /// The sweep's fixed inputs.
 #[derive(Debug)]
 pub struct Sweep<'a> {
@@ -164,6 +175,18 @@ impl<'a> Sweep<'a> {
             })
             .as_ref()
             .map_err(|e| Error::invalid("candidate", c, e.clone()))
+    }
+
+    /// What candidate `c`'s shared state is (computed once, on first use: the reach bound of
+    /// the straight rod, then the planner's start rung): whether its rays are decided once for
+    /// the whole placement ([`PlacementKind::OutOfReach`], [`PlacementKind::NoStart`]) or ray
+    /// by ray ([`PlacementKind::Ready`]). Errors: the candidate's rig cannot be planned.
+    pub fn placement_kind(&self, c: usize) -> Result<PlacementKind> {
+        Ok(match self.slot(c)? {
+            Slot::OutOfReach => PlacementKind::OutOfReach,
+            Slot::NoStart(_) => PlacementKind::NoStart,
+            Slot::Ready(_) => PlacementKind::Ready,
+        })
     }
 
     /// The row of one item (a [`RayRecord`]).
