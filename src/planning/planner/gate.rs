@@ -63,10 +63,7 @@ impl Planner {
         };
         let mut sc = self.new_scratch();
         let free = self.gate_solver()?;
-        match roll {
-            RollMode::Fixed => self.pointwise_valid(&w, azimuth, &[], &free, &mut sc),
-            RollMode::Motor => self.pointwise_valid_motor(&w, azimuth, &[], &free, &mut sc),
-        }
+        self.pointwise_valid(&w, azimuth, roll, &[], &free, &mut sc)
     }
 
     /// The gate's sampled pointwise test (module docs, "Pointwise gate") at the **last**
@@ -106,9 +103,14 @@ impl Planner {
             .collect();
         let free = self.gate_solver()?;
         let mut sc = self.new_scratch();
-        Ok(Some(
-            self.pointwise_valid(w_end, azimuth, &seeds, &free, &mut sc)?,
-        ))
+        Ok(Some(self.pointwise_valid(
+            w_end,
+            azimuth,
+            RollMode::Fixed,
+            &seeds,
+            &free,
+            &mut sc,
+        )?))
     }
 
     /// The IK solver of the pointwise tests: all joints free, `GATE_RESTARTS` restarts.
@@ -127,7 +129,7 @@ impl Planner {
     /// The pointwise gate before the dense levels (module docs, "Pointwise gate"): `true` when
     /// `base` (a partial plan whose last rung is `base_last`) stopped in a regular waypoint
     /// interval whose end has no valid configuration in the sampled pointwise test of its roll
-    /// mode ([`Planner::pointwise_valid`], [`Planner::pointwise_valid_motor`]), so no start level
+    /// mode ([`Planner::pointwise_valid`]), so no start level
     /// can pass that end.
     pub(super) fn levels_cannot_pass(&self, base: &RayPlan, base_last: &[Node]) -> Result<bool> {
         if base.class != ReachClass::Partial || self.dof != 7 {
@@ -147,115 +149,47 @@ impl Planner {
         };
         let mut sc = self.new_scratch();
         let free = self.gate_solver()?;
-        let valid = match base.roll {
-            RollMode::Fixed => {
-                self.pointwise_valid(w_fail, base.azimuth, base_last, &free, &mut sc)?
-            }
-            RollMode::Motor => {
-                self.pointwise_valid_motor(w_fail, base.azimuth, base_last, &free, &mut sc)?
-            }
-        };
+        let valid =
+            self.pointwise_valid(w_fail, base.azimuth, base.roll, base_last, &free, &mut sc)?;
         Ok(!valid)
     }
 
-    /// Sampled pointwise test of waypoint `w` in roll mode `fixed`: is there a configuration
-    /// that holds its pose (IK), inside the joint and motor limits, free of self, scene and rod
-    /// collision? Candidates: tracks from `seeds` and `GATE_RESTARTS` random restarts (all joints
-    /// free), then the redundancy joint locked on a `GATE_GRID` grid over its whole range,
-    /// each value tracked from the `GATE_LOCK_SEEDS` candidates nearest in that joint. The first
-    /// valid one ends the test. Sampled: `false` means none was found.
+    /// The gate's sampled pointwise test of waypoint `w` in roll mode `roll` (module docs,
+    /// "Pointwise gate"): is there a configuration that holds its pose (roll `fixed`: the full
+    /// tool pose; roll `motor`: the rod end's position and tangent, the roll about it free),
+    /// inside the joint and motor limits, free of self, scene and rod collision? One search in
+    /// both modes; roll `motor` adds the walk about the tool axis (its set is 2-dimensional,
+    /// redundancy joint × roll):
+    /// 1. candidates: tracks from `seeds` and `GATE_RESTARTS` random restarts (all joints free,
+    ///    the mode's target);
+    /// 2. the redundancy joint locked on a `GATE_GRID` grid over its whole range, each value
+    ///    tracked from the `GATE_LOCK_SEEDS` candidates nearest in that joint;
+    /// 3. roll `motor` only: from each distinct solution of 2 (none within `GATE_ROLL_STEP` of
+    ///    a sample walked at this value) a walk about the tool axis with the joint still locked:
+    ///    full-pose targets at roll offsets ±`GATE_ROLL_STEP`, ±2·`GATE_ROLL_STEP`, … around the
+    ///    whole circle, each tracked from the previous sample (the walk ends where a track fails:
+    ///    a joint limit or a singularity ends that piece of the curve).
+    ///
+    /// The first valid configuration ends the test. Sampled: `false` means none was found.
     pub(super) fn pointwise_valid(
         &self,
         w: &Waypoint,
         azimuth: Real,
+        roll: RollMode,
         seeds: &[Node],
         free: &IkSolver<'_>,
         sc: &mut Scratch,
     ) -> Result<bool> {
-        if !self.motor_ok(w.motor) {
+        let walk = roll == RollMode::Motor;
+        if !walk && !self.motor_ok(w.motor) {
             return Ok(false);
         }
         self.rod_nodes(w.kto, azimuth, &mut sc.rod)?;
-        let target = self.target(&w.tool, RollMode::Fixed);
-        // The seeds themselves also seed the locked runs.
-        let mut cand: Vec<[Real; MAX_DOF]> = seeds.iter().map(|n| n.q).collect();
-        let consider = |q: &[Real], cand: &mut Vec<[Real; MAX_DOF]>, sc: &mut Scratch| {
-            cand.push(pad(q));
-            self.check_config(q, sc).is_ok()
-        };
-        for n in seeds {
-            if let Some(sol) = free.track(&target, &n.q[..self.dof], None) {
-                if consider(sol.joints(), &mut cand, sc) {
-                    return Ok(true);
-                }
-            }
-        }
-        for sol in free.solve_all(&target, &[]) {
-            if consider(sol.joints(), &mut cand, sc) {
-                return Ok(true);
-            }
-        }
-        if cand.is_empty() {
-            return Ok(false);
-        }
-        let j = self.red_joint;
-        let (lo, hi) = (self.model.lower()[j], self.model.upper()[j]);
-        let n = ((hi - lo) / GATE_GRID).floor() as usize;
-        let mut order: Vec<usize> = (0..cand.len()).collect();
-        for g in 0..=n {
-            let v = lo + g as Real * GATE_GRID;
-            order.sort_by(|&a, &b| (cand[a][j] - v).abs().total_cmp(&(cand[b][j] - v).abs()));
-            for &c in order.iter().take(GATE_LOCK_SEEDS) {
-                let seed = cand[c];
-                if let Some(sol) = free.track(&target, &seed[..self.dof], Some((j, v))) {
-                    if self.check_config(sol.joints(), sc).is_ok() {
-                        return Ok(true);
-                    }
-                }
-            }
-        }
-        Ok(false)
-    }
-
-    /// Whether some motor angle that realises waypoint `w` with the arm at `q` lies in the
-    /// motor's range: `ω/c − ψ + 2πk` for any integer k (the ladder's unwrapping picks one k;
-    /// accepting any keeps the gate on the safe side).
-    fn motor_reachable(&self, w: &Waypoint, q: &[Real]) -> bool {
-        let (lo, hi) = self.rig.motor.range;
-        if hi - lo >= std::f64::consts::TAU {
-            return true;
-        }
-        let m = self.motor_angle(w, q, RollMode::Motor, 0.0);
-        let k = ((lo - m) / std::f64::consts::TAU).ceil();
-        m + std::f64::consts::TAU * k <= hi
-    }
-
-    /// Sampled pointwise test of waypoint `w` in roll mode `motor`: is there a configuration
-    /// that holds the rod end's position and tangent (roll about it free), inside the joint
-    /// limits, with a motor angle in range, free of self, scene and rod collision? The valid set
-    /// is 2-dimensional (redundancy joint × roll), sampled as:
-    /// 1. candidates: tracks from `seeds` and `GATE_RESTARTS` random restarts (roll free);
-    /// 2. for the redundancy joint locked on a `GATE_GRID` grid over its whole range, tracks
-    ///    (roll free) from the `GATE_LOCK_SEEDS` candidates nearest in that joint; from each
-    ///    distinct solution a walk about the tool axis with the joint still locked: full-pose
-    ///    targets at roll offsets ±`GATE_ROLL_STEP`, ±2·`GATE_ROLL_STEP`, … up to ±π, each tracked
-    ///    from the previous sample (the walk ends where a track fails: a joint limit or a
-    ///    singularity ends that piece of the curve).
-    ///
-    /// The first valid configuration ends the test. Sampled: `false` means none was found.
-    pub(super) fn pointwise_valid_motor(
-        &self,
-        w: &Waypoint,
-        azimuth: Real,
-        seeds: &[Node],
-        free: &IkSolver<'_>,
-        sc: &mut Scratch,
-    ) -> Result<bool> {
-        self.rod_nodes(w.kto, azimuth, &mut sc.rod)?;
-        let target = self.target(&w.tool, RollMode::Motor);
+        let target = self.target(&w.tool, roll);
         let valid = |q: &[Real], sc: &mut Scratch| {
-            self.motor_reachable(w, q) && self.check_config(q, sc).is_ok()
+            (!walk || self.motor_reachable(w, q)) && self.check_config(q, sc).is_ok()
         };
+        // The seeds themselves also seed the locked runs.
         let mut cand: Vec<[Real; MAX_DOF]> = seeds.iter().map(|n| n.q).collect();
         for n in seeds {
             if let Some(sol) = free.track(&target, &n.q[..self.dof], None) {
@@ -293,46 +227,77 @@ impl Planner {
                     continue;
                 };
                 let q0 = pad(sol.joints());
-                if walked.iter().any(|x| near(x, &q0)) {
+                if walk && walked.iter().any(|x| near(x, &q0)) {
                     continue;
                 }
                 if valid(&q0[..self.dof], sc) {
                     return Ok(true);
                 }
-                walked.push(q0);
-                // Walk about the tool axis, both ways, the redundancy joint still locked.
-                let pose0 = self.tool_pose(&q0[..self.dof]);
-                // The + walk covers (0, reach]; the − walk the rest of the circle.
-                let mut reach = 0.0;
-                for sign in [1.0, -1.0] {
-                    let span = if sign > 0.0 {
-                        std::f64::consts::PI
-                    } else {
-                        std::f64::consts::TAU - reach
-                    };
-                    let mut q = q0;
-                    let mut k = 1;
-                    while (k as Real) * GATE_ROLL_STEP < span + 0.5 * GATE_ROLL_STEP {
-                        let turn = sign * (k as Real * GATE_ROLL_STEP).min(span);
-                        let pose = pose0 * Iso3::rotation(Vec3::z() * turn);
-                        let t = self.target(&pose, RollMode::Fixed);
-                        let Some(s) = free.track(&t, &q[..self.dof], Some((j, v))) else {
-                            break;
-                        };
-                        q = pad(s.joints());
-                        if valid(&q[..self.dof], sc) {
-                            return Ok(true);
-                        }
-                        walked.push(q);
-                        if sign > 0.0 {
-                            reach = turn;
-                        }
-                        k += 1;
-                    }
+                if walk && self.roll_walk_finds(&q0, (j, v), free, &mut walked, &valid, sc) {
+                    return Ok(true);
                 }
             }
         }
         Ok(false)
+    }
+
+    /// Step 3 of [`Planner::pointwise_valid`]: the walk about the tool axis from `q0` (valid
+    /// or not), the redundancy joint locked by `lock`; `true` at the first sample `valid`
+    /// accepts. Every sample, `q0` first, goes into `walked`.
+    #[allow(clippy::too_many_arguments)]
+    fn roll_walk_finds(
+        &self,
+        q0: &[Real; MAX_DOF],
+        lock: (usize, Real),
+        free: &IkSolver<'_>,
+        walked: &mut Vec<[Real; MAX_DOF]>,
+        valid: &impl Fn(&[Real], &mut Scratch) -> bool,
+        sc: &mut Scratch,
+    ) -> bool {
+        walked.push(*q0);
+        let pose0 = self.tool_pose(&q0[..self.dof]);
+        // The + walk covers (0, reach]; the − walk the rest of the circle.
+        let mut reach = 0.0;
+        for sign in [1.0, -1.0] {
+            let span = if sign > 0.0 {
+                std::f64::consts::PI
+            } else {
+                std::f64::consts::TAU - reach
+            };
+            let mut q = *q0;
+            let mut k = 1;
+            while (k as Real) * GATE_ROLL_STEP < span + 0.5 * GATE_ROLL_STEP {
+                let turn = sign * (k as Real * GATE_ROLL_STEP).min(span);
+                let pose = pose0 * Iso3::rotation(Vec3::z() * turn);
+                let t = self.target(&pose, RollMode::Fixed);
+                let Some(s) = free.track(&t, &q[..self.dof], Some(lock)) else {
+                    break;
+                };
+                q = pad(s.joints());
+                if valid(&q[..self.dof], sc) {
+                    return true;
+                }
+                walked.push(q);
+                if sign > 0.0 {
+                    reach = turn;
+                }
+                k += 1;
+            }
+        }
+        false
+    }
+
+    /// Whether some motor angle that realises waypoint `w` with the arm at `q` lies in the
+    /// motor's range: `ω/c − ψ + 2πk` for any integer k (the ladder's unwrapping picks one k;
+    /// accepting any keeps the gate on the safe side).
+    fn motor_reachable(&self, w: &Waypoint, q: &[Real]) -> bool {
+        let (lo, hi) = self.rig.motor.range;
+        if hi - lo >= std::f64::consts::TAU {
+            return true;
+        }
+        let m = self.motor_angle(w, q, RollMode::Motor, 0.0);
+        let k = ((lo - m) / std::f64::consts::TAU).ceil();
+        m + std::f64::consts::TAU * k <= hi
     }
 }
 
