@@ -302,6 +302,81 @@ fn motor_gate_keeps_the_class() {
     assert!(brute_force_motor_valid(&gated, &d, mid));
 }
 
+/// Roll `motor` start components are components of the 2-D valid set (j0 × roll about the rod
+/// tangent), joined by walks about the tool axis (`planner/start.rs`): every free-roll IK
+/// solution of the straight rod has its own roll, so a fixed-roll (1-D) grouping leaves
+/// (nearly) each its own component, and the motor dense levels were (components) × k nodes
+/// wide. Checked: every group member holds the straight rod's end position and tangent; some
+/// group joins solutions at different rolls; the groups are far fewer than the solutions. And
+/// the rays of the demo lattice (100 quarter-sphere directions) that only roll `motor` makes
+/// testable through its dense levels — 20, 46 and 69: roll `fixed` partial — stay testable
+/// (they were with the per-roll grouping too; the lattice in roll `motor` took 268 s CPU then,
+/// 47 s now, `--threads 1`, same load).
+#[test]
+fn motor_start_components_are_joined_and_keep_the_motor_only_rays() {
+    let rig = Rig::load("sawyer-seed").unwrap();
+    let planner = Planner::new(rig.clone()).unwrap();
+    let groups = planner.start_components(RollMode::Motor);
+    let n: usize = groups.iter().map(|g| g.len()).sum();
+    let straight = rig.straight_tool_pose();
+    let roll_of = |q: &[Real]| {
+        let t = planner.tool_pose(q);
+        assert!((t.translation.vector - straight.translation.vector).norm() < 1e-6);
+        let (za, zb) = (t.rotation * Vec3::z(), straight.rotation * Vec3::z());
+        assert!((za - zb).norm() < 1e-6, "{q:?}: tool axis off");
+        let m = (straight.rotation.inverse() * t.rotation)
+            .to_rotation_matrix()
+            .into_inner();
+        m[(1, 0)].atan2(m[(0, 0)])
+    };
+    let mut mixed = 0;
+    for g in &groups {
+        let rolls: Vec<Real> = g.iter().map(|q| roll_of(q)).collect();
+        let spread = rolls
+            .iter()
+            .fold(0.0, |a: Real, r| a.max((r - rolls[0]).abs()));
+        if spread > 1e-3 {
+            mixed += 1;
+        }
+    }
+    eprintln!(
+        "{n} motor start solutions in {} groups, {mixed} of them span several rolls",
+        groups.len()
+    );
+    assert!(n >= 40, "{n} solutions");
+    assert!(mixed >= 1);
+    assert!(
+        3 * groups.len() <= n,
+        "{} groups for {n} solutions",
+        groups.len()
+    );
+    let lattice = helixreach::directions::fibonacci(100, true).unwrap();
+    let rows: Vec<_> = [20usize, 46, 69]
+        .par_iter()
+        .map(|&i| {
+            let d = lattice[i];
+            let s = s_star(&d);
+            let f = planner
+                .plan_ray(&d, s, 0.0, RollMode::Fixed, false)
+                .unwrap();
+            let m = planner
+                .plan_ray(&d, s, 0.0, RollMode::Motor, false)
+                .unwrap();
+            (i, f, m)
+        })
+        .collect();
+    for (i, f, m) in &rows {
+        let ctx = format!(
+            "direction {i}: fixed {:?} s {}, motor {:?} s {} (k {})",
+            f.class, f.s_reached, m.class, m.s_reached, m.start_samples
+        );
+        eprintln!("{ctx}");
+        assert_eq!(f.class, ReachClass::Partial, "{ctx}");
+        assert_eq!(m.class, ReachClass::Testable, "{ctx}");
+        assert!(m.start_samples >= 16, "{ctx}: not from a dense level");
+    }
+}
+
 /// Brute-force pointwise test in roll `motor` at arc length `s` of `d` (azimuth 0): is there a
 /// collision-free configuration (self, scene, rod) holding the rod end's position and tangent at
 /// any roll? Roll sampled every 10°, each a full pose solved by `IkSolver::solve_all` with j0

@@ -7,7 +7,9 @@
 //!   `redundancy_samples` values, computed once per roll mode and cached. The valid solutions
 //!   are grouped by connected valid self-motion component (walks at the held straight-rod pose,
 //!   [`crate::planning::self_motion`]); the first rung is the `redundancy_samples` most diverse
-//!   solutions, and every component it misses gets its own start rung. A ray that is not
+//!   solutions, and every component it misses gets its own start rung (the start set and its
+//!   components: `planner/start.rs` module docs; in roll `motor` the components are
+//!   those of the 2-D valid set, joined by walks about the tool axis). A ray that is not
 //!   testable from the first rung is planned again from each further component, and the
 //!   farthest plan is kept.
 //! - **Waypoint k+1**: every node of rung k is tracked to the new pose by one Levenberg–Marquardt
@@ -123,14 +125,25 @@
 //! 2. the whole `fixed` plan (base, gate, levels; labelled roll `motor`);
 //! 3. the pointwise gate (roll `motor`) at the end of the interval where plan 1 stopped: when it
 //!    finds no valid configuration, no further motor start can pass it, and 4–5 are skipped;
-//! 4. the motor plans from the further start components (in roll `motor` every distinct roll
-//!    of the straight rod's solutions is a component of its own: the seed rig has 76 motor
-//!    start nodes, 8 in the first rung);
-//! 5. the gate again where the farthest of them stopped, and the motor dense levels.
+//! 4. the motor plans from the further start components: components of the 2-D valid set
+//!    (j0 × roll), found by walks about the tool axis between the rolls of the straight rod's
+//!    free-roll IK solutions (`planner/start.rs` module docs). For the seed rig its 78
+//!    solutions lie on 73 fixed-roll (1-D) components, which the roll walks join into 11; the
+//!    first rung touches 8 of them, so 3 further motor plans;
+//! 5. the gate again where the farthest of them stopped, and the motor dense levels: the first
+//!    k points of each 2-D component (11·k nodes wide for the seed rig; 73·k before the roll
+//!    walks joined the components).
 //!
 //! The class is the same as planning every stage (the gate's sampling caveat aside); a
 //! testable ray may get the `fixed` path where the motor levels would also have found one; a
 //! ray gated at 3 may reach less than stage 4 would, by less than one waypoint interval.
+//!
+//! Sampling the 2-D components with k points each (instead of k per roll) is a coarser start
+//! set, not a subset of the former one, so it is checked against the former code (every stage
+//! run): on the demo lattice (`reach --fibonacci 100 --quarter --roll motor`) all 100 classes
+//! are identical (80 testable); 14 of the 20 partial rays reach a different s (5 farther by
+//! ≤ 0.003, 9 less: by ≤ 0.05 except two by 0.55 and 0.47, 10 % of their s), 7 report another
+//! cause. CPU 268 → 47 s (`--threads 1`, user + sys, same load).
 //!
 //! # Result
 //! The farthest s reached, the class (testable: the whole path to s*·(1 + margin); partial:
@@ -155,6 +168,7 @@ use crate::robot::{
 use std::sync::OnceLock;
 
 mod gate;
+mod start;
 
 /// Halvings of the s-step allowed at one waypoint when its rung cannot be joined.
 const MAX_REFINE: u32 = 4;
@@ -302,6 +316,9 @@ struct StartSet {
     /// self-motion walk through it), in farthest-point order: any prefix is spread over the
     /// component and a longer prefix contains a shorter one (the dense levels).
     comps: Vec<Vec<Node>>,
+    /// The valid IK solutions of the straight rod, grouped by the same components (in the
+    /// order of `comps`).
+    solutions: Vec<Vec<Node>>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -548,161 +565,6 @@ impl Planner {
             .map_err(|c| *c)
     }
 
-    fn compute_start(&self, roll: RollMode) -> std::result::Result<StartSet, CauseCounts> {
-        let mut sc = self.new_scratch();
-        let straight = [0.0; 3];
-        let mut causes = CauseCounts::default();
-        if self.rod_nodes(straight, 0.0, &mut sc.rod).is_err() {
-            causes.add(BlockCause::NoIk);
-            return Err(causes);
-        }
-        let tool = self.rig.straight_tool_pose();
-        let w0 = Waypoint {
-            s: 0.0,
-            kto: straight,
-            tool,
-            motor: 0.0,
-        };
-        // All joints free, many random restarts: the self-motion manifold of the start pose is
-        // sampled broadly, then thinned to the most diverse `redundancy_samples` valid solutions.
-        let params = IkParams {
-            redundancy_joint: None,
-            restarts: 40
-                * self
-                    .rig
-                    .planner
-                    .redundancy_samples
-                    .max(self.rig.roll_samples),
-            max_iterations: 100,
-            ..self.ik.clone()
-        };
-        let Ok(solver) = IkSolver::new(&self.model, params) else {
-            causes.add(BlockCause::NoIk);
-            return Err(causes);
-        };
-        let sols = solver.solve_all(&self.target(&tool, roll), &[]);
-        if sols.is_empty() {
-            causes.add(BlockCause::NoIk);
-        }
-        let mut out = Vec::new();
-        for s in sols {
-            let q = s.joints();
-            if let Err(c) = self.check_config(q, &mut sc) {
-                causes.add(c);
-                continue;
-            }
-            let motor = self.motor_angle(&w0, q, roll, 0.0);
-            if !self.motor_ok(motor) {
-                causes.add(BlockCause::JointLimit);
-                continue;
-            }
-            let node = Node::from_joints(q, motor);
-            out.push(node);
-        }
-        if out.is_empty() {
-            return Err(causes);
-        }
-        let k = self.rig.planner.redundancy_samples;
-        let first_idx = farthest_indices(&out, k, self.dof);
-        // Label the valid solutions by connected valid self-motion component (walks at the
-        // straight rod's pose); components the first rung misses become further start rungs.
-        let (label, walks) = self.components(&out, &mut sc);
-        let mut others = Vec::new();
-        let n_labels = label.iter().copied().max().map_or(0, |m| m + 1);
-        let comps: Vec<Vec<Node>> = (0..n_labels)
-            .map(|l| {
-                let pool: Vec<Node> = (0..out.len())
-                    .filter(|&i| label[i] == l)
-                    .map(|i| out[i])
-                    .chain(walks[l].iter().copied())
-                    .collect();
-                farthest_order(&pool, self.dof)
-                    .into_iter()
-                    .map(|i| pool[i])
-                    .collect()
-            })
-            .collect();
-        for l in 0..n_labels {
-            if first_idx.iter().any(|&i| label[i] == l) {
-                continue;
-            }
-            let comp: Vec<Node> = (0..out.len())
-                .filter(|&i| label[i] == l)
-                .map(|i| out[i])
-                .collect();
-            let idx = farthest_indices(&comp, k, self.dof);
-            others.push(idx.into_iter().map(|i| comp[i]).collect());
-        }
-        Ok(StartSet {
-            first: first_idx.into_iter().map(|i| out[i]).collect(),
-            others,
-            comps,
-        })
-    }
-
-    /// Component labels (0, 1, …) of valid configurations that hold one tool pose (`sc.rod`
-    /// holds the rod): two share a label when a self-motion walk from one passes
-    /// within half a joint step of the other. Without 7 joints every node is its own component.
-    fn components(&self, nodes: &[Node], sc: &mut Scratch) -> (Vec<usize>, Vec<Vec<Node>>) {
-        let mut label = vec![usize::MAX; nodes.len()];
-        let mut walks: Vec<Vec<Node>> = Vec::new();
-        let Ok(solver) = IkSolver::new(&self.model, self.ik.clone()) else {
-            return ((0..nodes.len()).collect(), vec![Vec::new(); nodes.len()]);
-        };
-        let p = &self.rig.planner;
-        let settings = WalkSettings {
-            max_step: p.self_motion_step,
-            min_step: 1e-4,
-            joint_step_bound: p.max_joint_step,
-            max_samples: MAX_WALK_SAMPLES,
-        };
-        let mut next = 0;
-        for i in 0..nodes.len() {
-            if label[i] != usize::MAX {
-                continue;
-            }
-            label[i] = next;
-            walks.push(Vec::new());
-            if self.dof == 7 {
-                let held = Held {
-                    chain: self.model.chain(),
-                    solver: &solver,
-                    tip: self.model.chain().tool_pose(&nodes[i].q[..self.dof]),
-                    dof: self.dof,
-                };
-                let motor = nodes[i].motor;
-                for sign in [1.0, -1.0] {
-                    let (samples, _) = self_motion::walk(
-                        &held,
-                        &nodes[i].q,
-                        sign,
-                        &settings,
-                        |a, b| {
-                            self.check_config(&b[..self.dof], sc).is_ok()
-                                && self
-                                    .check_segment(&node(*a, motor), &node(*b, motor), sc)
-                                    .is_ok()
-                        },
-                        |_| false,
-                    );
-                    for (j, n) in nodes.iter().enumerate() {
-                        if label[j] == usize::MAX
-                            && samples.iter().any(|q| {
-                                (0..self.dof)
-                                    .all(|d| (q[d] - n.q[d]).abs() <= 0.5 * p.max_joint_step)
-                            })
-                        {
-                            label[j] = next;
-                        }
-                    }
-                    walks[next].extend(samples.iter().map(|q| node(*q, motor)));
-                }
-            }
-            next += 1;
-        }
-        (label, walks)
-    }
-
     fn edge_cost(&self, a: &Node, b: &Node) -> Option<Real> {
         let mut c2 = 0.0;
         for j in 0..self.dof {
@@ -795,6 +657,21 @@ impl Planner {
             .iter()
             .chain(set.others.iter().flatten())
             .map(|n| n.q[..self.dof].to_vec())
+            .collect()
+    }
+
+    /// The straight rod's valid IK solutions in roll mode `roll`, grouped by connected valid
+    /// start component (roll `fixed`: of the 1-D self-motion; roll `motor`: of the 2-D set
+    /// j0 × roll, joined by walks about the tool axis; `planner/start.rs` module docs). Two
+    /// solutions share a group only if a valid path at the walk resolution joins them. Empty
+    /// when the clamp is unreachable in that mode.
+    pub fn start_components(&self, roll: RollMode) -> Vec<Vec<Vec<Real>>> {
+        let Ok(set) = self.start(roll) else {
+            return Vec::new();
+        };
+        set.solutions
+            .iter()
+            .map(|c| c.iter().map(|n| n.q[..self.dof].to_vec()).collect())
             .collect()
     }
 
@@ -1562,66 +1439,4 @@ pub fn material_from_arm(rig: &Rig, r_arm: &Mat3, m: Real) -> Mat3 {
 
 fn node(q: self_motion::Q, motor: Real) -> Node {
     Node { q, motor }
-}
-
-/// Farthest-point order of `nodes` (max-norm joint distance) from the first: each next index is
-/// the node farthest from those before it (ties: the lowest index). Every prefix is a greedy
-/// spread sample, and prefixes are nested. O(n²).
-fn farthest_order(nodes: &[Node], dof: usize) -> Vec<usize> {
-    if nodes.is_empty() {
-        return Vec::new();
-    }
-    let dist = |a: &Node, b: &Node| {
-        (0..dof)
-            .map(|j| (a.q[j] - b.q[j]).abs())
-            .fold(0.0, Real::max)
-    };
-    let mut order = vec![0usize];
-    let mut taken = vec![false; nodes.len()];
-    taken[0] = true;
-    let mut dmin: Vec<Real> = nodes.iter().map(|n| dist(n, &nodes[0])).collect();
-    while order.len() < nodes.len() {
-        let mut best = usize::MAX;
-        for i in 0..nodes.len() {
-            if !taken[i] && (best == usize::MAX || dmin[i] > dmin[best]) {
-                best = i;
-            }
-        }
-        taken[best] = true;
-        order.push(best);
-        for i in 0..nodes.len() {
-            dmin[i] = dmin[i].min(dist(&nodes[i], &nodes[best]));
-        }
-    }
-    order
-}
-
-/// Greedy farthest-point selection of `k` nodes (max-norm joint distance), starting from the
-/// first: deterministic, and spreads the start rung over the self-motion manifold. Returns
-/// sorted indices.
-fn farthest_indices(nodes: &[Node], k: usize, dof: usize) -> Vec<usize> {
-    if nodes.len() <= k {
-        return (0..nodes.len()).collect();
-    }
-    let dist = |a: &Node, b: &Node| {
-        (0..dof)
-            .map(|j| (a.q[j] - b.q[j]).abs())
-            .fold(0.0, Real::max)
-    };
-    let mut chosen = vec![0usize];
-    let mut dmin: Vec<Real> = nodes.iter().map(|n| dist(n, &nodes[0])).collect();
-    while chosen.len() < k {
-        let mut best = 0;
-        for i in 0..nodes.len() {
-            if dmin[i] > dmin[best] {
-                best = i;
-            }
-        }
-        chosen.push(best);
-        for i in 0..nodes.len() {
-            dmin[i] = dmin[i].min(dist(&nodes[i], &nodes[best]));
-        }
-    }
-    chosen.sort_unstable();
-    chosen
 }
