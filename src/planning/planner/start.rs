@@ -43,6 +43,11 @@ use crate::robot::{IkParams, IkSolver};
 /// pointwise gate's roll walks, so that a step rarely exceeds the joint-step bound.
 const ROLL_STEP: Real = 0.025;
 
+/// Largest motor-angle difference (rad) at which a roll walk's landing counts as the same
+/// motor angle as a sample of the component it lands on (both are computed from the same
+/// straight-rod pose; a 2π branch apart is another configuration of the motor).
+const SAME_MOTOR: Real = 1e-6;
+
 /// Start points per 1-D component (the first of its farthest-point order) from which roll
 /// walks are tried.
 const ROLL_TRIES: usize = 4;
@@ -346,7 +351,7 @@ impl Planner {
             turned = turned.max(stop);
             if b != usize::MAX
                 && pools[b].iter().any(|x| {
-                    (x.motor - prev.motor).abs() <= 1e-6
+                    (x.motor - prev.motor).abs() <= SAME_MOTOR
                         && (0..self.dof).all(|d| (x.q[d] - prev.q[d]).abs() <= half)
                 })
             {
