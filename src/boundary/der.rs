@@ -4,8 +4,9 @@
 //! ([`crate::rod::clamp`]): edge 0 along z with the identity material frame at the origin, edge
 //! n−1 at the end of the helix `(κ, τ, ω) = s·S̄` with its tangent and its material frame (the
 //! transported frame turned by `ω/c` about the tangent). The equilibrium of the *inextensible*
-//! discrete rod is found by Newton ([`crate::rod::statics`]) inside an augmented Lagrangian
-//! (see "Inextensibility") and followed along the ray by continuation in s: the first point of
+//! discrete rod is found by Newton on its KKT system ([`crate::rod::inextensible`]; below a
+//! curvature share κ̂ ≈ 10⁻⁶, by Newton ([`crate::rod::statics`]) inside an augmented
+//! Lagrangian; see "Inextensibility") and followed along the ray by continuation in s: the first point of
 //! a ray is a nearly straight rod (s ≤ 1) started from the helix sampled at the nodes, every
 //! later one from the sampled helix plus a prediction of the discrete correction (equilibrium
 //! minus sampled helix): the secant through the last two converged points of `correction/s²`
@@ -19,10 +20,12 @@
 //! ω/c: the winding number of the end rotation is the one reached continuously from the
 //! straight rod.
 //!
-//! Stable ⇔ the free Hessian is positive definite (banded LDLᵀ inertia, no eigen-solve). The
+//! Stable ⇔ the free Hessian is positive definite on the constraint set (banded LDLᵀ inertia
+//! of the KKT matrix, or of the penalty rod's free Hessian; no eigen-solve). The
 //! critical distance s* is bracketed by stepping s geometrically (from 4, ×1.5) and then refined
 //! by regula falsi (Illinois) on the free Hessian's smallest-magnitude eigenvalue μ(s)
-//! (inverse iteration with the LDLᵀ factors), with the *predicate* deciding which end of the
+//! (inverse iteration with the LDLᵀ factors; of the KKT matrix, whose eigenvalue nearest 0
+//! crosses 0 with the constrained Hessian's), with the *predicate* deciding which end of the
 //! bracket moves and a bisection fallback whenever the bracket fails to halve, until the
 //! bracket width is ≤ `tol_rel·s`. A ray stable at `s_max` returns `s* = ∞`.
 //!
@@ -43,7 +46,9 @@
 //!   s = 1. It is accepted only if its equilibrium is stable and within
 //!   `BRANCH_DEVIATION` = 0.02 L of the sampled helix (the helical branch; another branch
 //!   is O(L) away); otherwise the ray restarts from s = 1;
-//! - the continuation steps between bracket points are solved on the augmented-Lagrangian rod
+//! - (augmented Lagrangian only; with the KKT Newton every step is an equilibrium of the model
+//!   itself, and a step past s* is a bracket end) the continuation steps between bracket
+//!   points are solved on the augmented-Lagrangian rod
 //!   only (the inextensible equilibrium to 10⁻⁸, no relaxation to the penalty rod, μ from 2
 //!   warm inverse iterations): a step only predicts the next point. Every bracket point (each
 //!   probe's target, and a step whose inertia is negative, re-solved there) is the full
@@ -56,10 +61,12 @@
 //! (0.1213, −0.9129, −0.3898) 8·10⁻⁵ wrong — Newton on the stiff rod near s* can slide onto
 //! a neighbouring equilibrium — and was dropped.)
 //!
-//! On the 2,000-direction half-sphere at n = 100 this takes 12.1 equilibria and 57 Newton
-//! iterations per direction instead of 18.3 and 83 (0.63× the CPU time, back to back under
-//! load), and moves s* by at most 2.5·10⁻⁶ relative (median 7·10⁻⁹): the predicate's noise
-//! floor, the same equilibria reached differently. [`DerRay::critical_s_from`] (the bifurcation analysis) takes
+//! With the augmented Lagrangian these shortcuts took 12.1 equilibria and 57 Newton
+//! iterations per direction instead of 18.3 and 83 on the 2,000-direction half-sphere at
+//! n = 100 (0.63× the CPU time, back to back under load), and moved s* by at most 2.5·10⁻⁶
+//! relative (median 7·10⁻⁹): the predicate's noise floor, the same equilibria reached
+//! differently. The KKT Newton needs ≈ 10.5 equilibria and 22 Newton iterations per direction
+//! (README, DER table). [`DerRay::critical_s_from`] (the bifurcation analysis) takes
 //! no shortcut unless [`DerRay::allow_shortcuts`] is called. Near the κ = 0 plane the rod of
 //! 10⁶ buckles before the penalty rod does (the compression is taken up by the edges rather than
 //! the helix), and a far cold start can land on a neighbouring equilibrium of the nearly
@@ -74,32 +81,43 @@
 //! stable for every s, and `s* = ∞` is returned; with ω ≠ 0 it is the twisted clamped rod.
 //!
 //! # Inextensibility
-//! The continuum reference is inextensible. A stiff stretching penalty (`k_s = 10⁸`, the
-//! previous approach) made Newton's basin tiny (a transverse move δ strains an edge by
-//! δ²/2ē²): near s* Newton failed from close predictions, and failures read as "unstable"
-//! made s* up to 1.5 % wrong at n = 100 on directions where n = 50 and 200 were right (e.g.
-//! (0.3242, −0.9423, 0.0830): −1.0 % at n = 100, 1e-4 at n = 50 and 200). Now `k_s`
-//! only conditions Newton, which works with `k_s = min(stretch, 10⁶)`
-//! ([`DerBoundaryParams::stretch`], default [`BOUNDARY_STRETCH`] = 10⁸): after each solve the
-//! stretching rest lengths are shifted,
+//! The continuum reference is inextensible, and so is the rod [`critical_s`] solves: where the
+//! direction's curvature share is at least `max(`[`MIN_KAPPA_HAT`]`, `[`MIN_KAPPA_HAT_PER_EDGE`]`·n)`
+//! ([`solves_inextensible`]; 5·10⁻⁷ at n = 100) every equilibrium is a stationary point of
+//! the bending and twisting energy subject to `|e_j| = ē_j` on every edge with a free node,
+//! found by Newton on the KKT system with the edges' axial forces as multipliers
+//! ([`crate::rod::inextensible`], [`DerRay::set_inextensible`]), and stability is the
+//! constrained Hessian's: the KKT matrix has exactly as many negative eigenvalues as
+//! constraints. Newton converges quadratically in positions and forces together, also on the
+//! nearly straight, compressed rod of the κ → 0 band, where the augmented Lagrangian below
+//! stalled (its multiplier update contracts like `K/(K + k_s)`, K the rod's axial stiffness
+//! between the clamps, huge as κ → 0: (0.0018, 0.6084, −0.7936) failed) and where the
+//! penalty rod could not carry the helix's compression at all (κ̂ ≲ 3·10⁻³ near the τ axis was
+//! refused). Below the κ̂ limit the constraint Jacobian is too close to rank-deficient (a
+//! uniform axial force is invisible on a straight rod; its smallest singular value is the
+//! edges' turning angle ≈ κ·ē) and the axial force is lost to round-off: at n = 25, 100, 200
+//! the τ-axis and (κ̂, 0.6, −0.8) sweeps are clean (within 2.3·10⁻⁶ of the κ̂-independent
+//! discretization error) down to κ̂ = 10⁻⁷ and break down (errors, never numbers) at
+//! 3·10⁻⁸ or 10⁻⁸; the limit keeps a 5× margin.
+//!
+//! Below the limit (the κ = 0 plane and a band of width ≈ 10⁻⁶ around it, e.g. the ω axis)
+//! the previous method is kept: a stiff stretching penalty (`k_s = 10⁸`) made Newton's basin
+//! tiny (a transverse move δ strains an edge by δ²/2ē²), so `k_s` only conditions Newton, which
+//! works with `k_s = min(stretch, 10⁶)` ([`DerBoundaryParams::stretch`], default
+//! [`BOUNDARY_STRETCH`] = 10⁸): after each solve the stretching rest lengths are shifted,
 //! `ē'_j = ē_j/(1 + f_j/k_s)` with `f_j` the edge's axial force
 //! ([`crate::rod::Rod::set_stretch_rest_length`]), until every edge has its rest length to
-//! [`AL_STRAIN_TOL`] = 10⁻⁷ — the augmented-Lagrangian (method of multipliers) update; it takes
-//! zero or one update of 1–2 Newton iterations each, and `k_s` is raised tenfold when an
-//! update is slow (a nearly straight rod, whose axial stiffness between the clamps is huge).
-//! The inextensible equilibrium is then relaxed by Newton to the equilibrium of the penalty rod
-//! of stiffness `stretch` with its true rest lengths (an axial strain `O(f/k_s)` away, well
-//! inside the basin): the stability test, [`DerRay::rod`] and [`DerRay::state`] are that
-//! model's — the DER rod of the dynamics and of the bifurcation analysis — and it differs from
-//! the inextensible rod by ≈ |n|/k_s relative in s* (≈ 10⁻⁸ … 10⁻⁵ at the default 10⁸). The
-//! augmented Lagrangian is how the equilibrium is *reached* robustly.
-//!
-//! Near the κ = 0 plane the helix's compression is carried by a chord shortening
-//! `δ = 1 − |r(1)| ≈ κ̂²/2` that the discrete equilibrium cannot resolve once it falls to the
-//! strain floor of the solve: [`critical_s`] refuses a direction with `|n|/k_guard > 0.1·δ` at
-//! the continuum s* (`|n| = |ω − τ|·√(κ² + τ²)` the helix's internal force,
-//! `k_guard` = [`EXTENSIBILITY_GUARD_STRETCH`] = 10⁸; [`check_extensibility`]) with an error
-//! naming both numbers: κ̂ ≲ 3·10⁻³ on the τ axis (use the continuum method there).
+//! [`AL_STRAIN_TOL`] = 10⁻⁷ — the augmented-Lagrangian (method of multipliers) update, with
+//! `k_s` raised tenfold when an update is slow. The inextensible equilibrium is then relaxed
+//! by Newton to the equilibrium of the penalty rod of stiffness `stretch` with its true rest
+//! lengths, whose stability is tested — the DER rod of the dynamics and of the bifurcation
+//! analysis ([`DerRay`]'s default), which differs from the inextensible rod by ≈ |n|/k_s
+//! relative in s* (≈ 10⁻⁸ … 10⁻⁵ at the default 10⁸). There a direction with
+//! `|n|/k_guard > 0.1·δ` at the continuum s* (`|n| = |ω − τ|·√(κ² + τ²)` the helix's internal
+//! force, `δ = 1 − |r(1)|` its chord shortening, `k_guard` = [`EXTENSIBILITY_GUARD_STRETCH`]
+//! = 10⁸; [`check_extensibility`]) is refused with an error naming both numbers (use the
+//! continuum method there); the twisted rod without axial force (the ω axis, ω = τ on
+//! κ = 0) is solved.
 //!
 //! # Resolution
 //! The frames of the helix turn by [`rotation_per_edge`] `φ = s*·√(κ̂² + τ̂² + (ω̂/c)²)/(n − 1)`
@@ -142,6 +160,7 @@ use crate::error::{require_finite, require_positive, Error, Result};
 use crate::helix::Helix;
 use crate::math::{tol, Real, Vec3};
 use crate::rod::clamp::{clamp_nodes, ClampPlacement, End};
+use crate::rod::inextensible::{self, KktWorkspace};
 use crate::rod::params::twist_ratio;
 use crate::rod::statics::{self, NewtonParams};
 use crate::rod::{Material, Rod, RodState, Workspace};
@@ -200,6 +219,10 @@ pub const SHORTCUT_STRAIN_TO_SHORTENING: Real = 0.01;
 /// restarts from the nearly straight rod.
 const BRANCH_DEVIATION: Real = 0.02;
 
+/// Largest node displacement (units of L) of a KKT equilibrium from its predicted start
+/// before the step counts as failed (left the branch; see [`DerRay::evaluate_predicted`]).
+const PREDICTION_DEVIATION: Real = 5e-3;
+
 /// Newton iterations allowed from the predicted start before falling back.
 const PREDICTED_MAX_ITERS: usize = 10;
 /// The seeded search starts this fraction below the continuum s*.
@@ -231,6 +254,17 @@ pub const EXTENSIBILITY_GUARD_STRETCH: Real = 1e8;
 /// strain `|n|/k_guard` exceeds this fraction of the helix's chord shortening (module docs).
 pub const MAX_STRAIN_TO_SHORTENING: Real = 0.1;
 
+/// Smallest curvature share κ̂ of a direction that [`critical_s`] solves as the inextensible
+/// rod ([`solves_inextensible`]). Measured on the τ axis and (κ̂, 0.6, −0.8): at
+/// n = 25, 100, 200 every κ̂ ≥ 10⁻⁷ is within 2.3·10⁻⁶ of the clean discretization error, and
+/// the solve breaks down (errors, never a number) at κ̂ = 3·10⁻⁸ (n = 25, 200) or 10⁻⁸
+/// (n = 100): 10× margin.
+pub const MIN_KAPPA_HAT: Real = 5e-7;
+
+/// The guard's growth with n: κ̂ ≥ `MIN_KAPPA_HAT_PER_EDGE·n` (the edges' turning angle κ·ē
+/// shrinks like 1/n; 10⁻⁹·n is 10× the smallest κ̂·ē that worked, 10⁻⁷/200).
+pub const MIN_KAPPA_HAT_PER_EDGE: Real = 1e-9;
+
 /// Largest rotation of the frames per edge (radians, [`rotation_per_edge`]) at the continuum s*
 /// for which a DER boundary is computed ([`check_resolution`]): there the discretization bound
 /// `DISCRETIZATION_COEFF·φ²` of `est_error` reaches ≈ 50 % of s*; beyond it the discrete rod
@@ -257,7 +291,9 @@ pub struct DerBoundaryParams {
     pub tol_rel: Real,
     /// Largest s searched; beyond it the ray is reported stable (`s* = ∞`).
     pub s_max: Real,
-    /// Nondimensional stretching stiffness `k_s L²/k_b` (the continuum is inextensible).
+    /// Nondimensional stretching stiffness `k_s L²/k_b` of the penalty rod (the continuum is
+    /// inextensible): used by [`DerRay`]'s default model (the bifurcation analysis) and by
+    /// [`critical_s`] only below the KKT limit ([`solves_inextensible`]).
     pub stretch: Real,
     /// Clamped-edge placement (default [`ClampPlacement::Straddle`], `O(1/n²)`).
     pub clamp: ClampPlacement,
@@ -336,6 +372,10 @@ pub struct DerRay {
     /// Whether the search may take the shortcuts (a cold start half-way to the first probe,
     /// continuation steps on the augmented-Lagrangian rod): [`DerRay::allow_shortcuts`].
     shortcuts: bool,
+    /// The inextensible rod by KKT Newton ([`DerRay::set_inextensible`]) and its buffers.
+    kkt: Option<KktWorkspace>,
+    /// The Newton start of the last predicted evaluation (branch check).
+    predicted: Vec<Real>,
 }
 
 /// The outcome of one evaluation along a ray.
@@ -391,6 +431,8 @@ impl DerRay {
             mu_first: Real::NAN,
             mu_last: Real::NAN,
             shortcuts: false,
+            kkt: None,
+            predicted: vec![0.0; 4 * n + 3],
         })
     }
 
@@ -399,6 +441,26 @@ impl DerRay {
     /// default; [`critical_s`] turns them on where [`shortcuts_are_safe`] at the continuum s*.
     pub fn allow_shortcuts(&mut self, on: bool) {
         self.shortcuts = on;
+    }
+
+    /// Solve every equilibrium of this ray as the *inextensible* rod, by Newton on the KKT
+    /// system ([`crate::rod::inextensible`]), and decide stability by the constrained Hessian
+    /// (module docs, "The κ → 0 band"); off (the default): the augmented Lagrangian relaxed to
+    /// the penalty rod of `params.stretch`. Forgets the continuation.
+    pub fn set_inextensible(&mut self, on: bool) {
+        if on && self.kkt.is_none() {
+            let free = self.rod.free_range_clamped();
+            self.kkt = Some(KktWorkspace::new(&self.rod, free));
+        }
+        if !on {
+            self.kkt = None;
+        }
+        self.restart();
+    }
+
+    /// Whether this ray solves the inextensible rod by KKT Newton ([`DerRay::set_inextensible`]).
+    pub fn is_inextensible(&self) -> bool {
+        self.kkt.is_some()
     }
 
     /// The rod model.
@@ -505,6 +567,30 @@ impl DerRay {
         if !st.update_reference() {
             return Err(not_converged());
         }
+        if self.kkt.is_some() {
+            let quick = NewtonParams {
+                max_iters,
+                ..self.newton
+            };
+            self.predicted.copy_from_slice(&st.q);
+            let mut r = self.solve_kkt(&mut st, &quick, scale);
+            // Branch check: Newton on the inextensible rod converges from far; past a
+            // bifurcation it can slide from the prediction onto a buckled, stable equilibrium
+            // ((0.16825, −0.5312, −0.8304) at n = 50: 2·10⁻² L from the prediction, where the
+            // steps along the branch stay below 6.4·10⁻⁴ L). Such a point is a failed step.
+            if r.is_ok() && self.prediction_deviation(&st) > PREDICTION_DEVIATION {
+                r = Err(not_converged());
+            }
+            return match r {
+                Ok(eq) => Ok(self.finish(s, &init, st, eq.negative, eq.iterations, full)),
+                Err(Error::NotConverged { .. }) => {
+                    self.evaluations += 1;
+                    self.newton_iterations += max_iters;
+                    Err(not_converged())
+                }
+                Err(e) => Err(e),
+            };
+        }
         self.rod.material.stretch = self.newton_stretch();
         self.set_axial_forces(scale)?;
         let quick = if full {
@@ -534,6 +620,24 @@ impl DerRay {
     /// Newton from the sampled helix with a continuation in the stretching stiffness.
     fn evaluate_cold(&mut self, s: Real) -> Result<RayPoint> {
         let init = self.initial_state(s)?;
+        if self.kkt.is_some() {
+            // The multipliers start at the continuum helix's axial force (ω − τ)·τ, uniform
+            // along the rod: with λ = 0 a cold start far along the ray could converge to
+            // another, stable equilibrium ((0.16825, −0.5312, −0.8304) at n = 50: stable to
+            // s_max, caught by the continuum check).
+            let [_, t, w] = self.dir.at(s);
+            self.axial.iter_mut().for_each(|f| *f = (w - t) * t);
+            let mut st = init.clone();
+            let newton = self.newton;
+            return match self.solve_kkt(&mut st, &newton, 1.0) {
+                Ok(eq) => Ok(self.finish(s, &init, st, eq.negative, eq.iterations, true)),
+                Err(e) => {
+                    self.evaluations += 1;
+                    self.newton_iterations += newton.max_iters;
+                    Err(e)
+                }
+            };
+        }
         let free = self.rod.free_range_clamped();
         let target = self.newton_stretch();
         let mut iterations = 0;
@@ -563,6 +667,33 @@ impl DerRay {
             ks = (ks * STRETCH_STEP).min(target);
         };
         Ok(self.finish(s, &init, st, eq.negative, iterations, true))
+    }
+
+    /// The inextensible equilibrium by KKT Newton from `st`, the multipliers starting at
+    /// `scale·axial` (the last converged ones, scaled like s²); on success `axial` holds the
+    /// new ones. The rod's stretching stiffness is 0 during the solve (the edge lengths are
+    /// constraints) and `params.stretch` afterwards.
+    fn solve_kkt(
+        &mut self,
+        st: &mut RodState,
+        newton: &NewtonParams,
+        scale: Real,
+    ) -> Result<statics::Equilibrium> {
+        let free = self.rod.free_range_clamped();
+        let Some(kkt) = self.kkt.as_mut() else {
+            unreachable!("solve_kkt without the KKT workspace")
+        };
+        for (l, a) in kkt.lambda_mut().iter_mut().zip(&self.axial) {
+            *l = scale * a;
+        }
+        self.rod.reset_stretch_rest_lengths();
+        self.rod.material.stretch = 0.0;
+        let r = inextensible::solve(&self.rod, st, free, &mut self.ws, kkt, newton);
+        self.rod.material.stretch = self.params.stretch;
+        if r.is_ok() {
+            self.axial.copy_from_slice(kkt.lambda());
+        }
+        r
     }
 
     /// The penalty Newton works with: `min(params.stretch, NEWTON_STRETCH)`.
@@ -667,10 +798,17 @@ impl DerRay {
             (true, true) => SHORTCUT_MU_ITERS,
             (true, false) => MU_ITERS,
         };
-        let mu = self
-            .ws
-            .ldlt
-            .smallest_eigenvalue_warm(&self.ws.hess, free, iters, true);
+        let mu = match self.kkt.as_mut() {
+            Some(kkt) => {
+                let dim = kkt.dim();
+                let (a, ldlt) = kkt.kkt();
+                ldlt.smallest_eigenvalue_warm(a, 0..dim, iters, true)
+            }
+            None => self
+                .ws
+                .ldlt
+                .smallest_eigenvalue_warm(&self.ws.hess, free, iters, true),
+        };
 
         std::mem::swap(&mut self.correction, &mut self.correction_prev);
         self.correction_prev_s = self.correction_s;
@@ -703,6 +841,15 @@ impl DerRay {
         self.correction_prev_s = 1.0;
         self.rod.reset_stretch_rest_lengths();
         self.axial.iter_mut().for_each(|f| *f = 0.0);
+    }
+
+    /// Largest node displacement of `st` from the last Newton start ([`DerRay::predicted`]).
+    fn prediction_deviation(&self, st: &RodState) -> Real {
+        (0..=self.params.n_edges).fold(0.0, |m: Real, i| {
+            (0..3).fold(m, |m, a| {
+                m.max((st.q[4 * i + a] - self.predicted[4 * i + a]).abs())
+            })
+        })
     }
 
     /// Largest node displacement of the last equilibrium from the sampled helix (units of L).
@@ -802,7 +949,8 @@ impl DerRay {
                     if t == s {
                         return Ok(classify(&pt));
                     }
-                    if pt.negative > 0 && full {
+                    // The inextensible rod's steps are the model itself (only μ is rougher).
+                    if pt.negative > 0 && (full || self.kkt.is_some()) {
                         return Ok(classify(&pt));
                     }
                     if pt.negative > 0 {
@@ -949,8 +1097,9 @@ impl DerRay {
 /// The DER-statics critical distance s* along `dir` (see the module docs).
 ///
 /// Errors: invalid parameters (n < 4, ν ∉ (−1, 0.5], tol_rel ≤ 0, non-finite values), an
-/// invalid direction (NaN, zero, κ < 0), a direction too close to the κ = 0 plane or too
-/// coarsely resolved ([`check_extensibility`], [`check_resolution`]), a Newton failure, or a
+/// invalid direction (NaN, zero, κ < 0), a direction too close to the κ = 0 plane (below the
+/// KKT limit, [`solves_inextensible`], and failing [`check_extensibility`]) or too
+/// coarsely resolved ([`check_resolution`]), a Newton failure, or a
 /// result that disagrees with the continuum beyond its `est_error`
 /// ([`check_against_continuum`]).
 pub fn critical_s(dir: &Direction, params: &DerBoundaryParams) -> Result<CriticalS> {
@@ -973,11 +1122,17 @@ pub fn critical_s_with_work(
 
 fn critical_s_on(ray: &mut DerRay, params: &DerBoundaryParams) -> Result<CriticalS> {
     let c = super::continuum::critical_s(&ray.dir, 1e-6)?;
+    // The κ → 0 band (module docs): the inextensible rod by KKT Newton, no shortcut.
+    let band = c.s_star.is_finite() && !shortcuts_are_safe(&ray.dir, c.s_star)?;
+    let kkt = solves_inextensible(&ray.dir, params.n_edges);
     if c.s_star.is_finite() {
-        check_extensibility(&ray.dir, c.s_star)?;
+        if !kkt {
+            check_extensibility(&ray.dir, c.s_star)?;
+        }
         check_resolution(&ray.dir, c.s_star, params.n_edges, ray.c)?;
     }
-    ray.allow_shortcuts(c.s_star.is_finite() && shortcuts_are_safe(&ray.dir, c.s_star)?);
+    ray.set_inextensible(kkt);
+    ray.allow_shortcuts(c.s_star.is_finite() && !band);
     let mut r = if params.continuum_seed && c.s_star.is_finite() && c.s_star < params.s_max {
         ray.critical_s_from(SEED_BELOW * c.s_star, SEED_GROWTH)?
     } else {
@@ -1098,6 +1253,17 @@ fn force_and_shortening(dir: &Direction, s: Real) -> Result<(Real, Real)> {
     let force = (w - t).abs() * (k * k + t * t).sqrt();
     let shortening = 1.0 - Helix::new(k, t, w)?.position(1.0).norm();
     Ok((force, shortening))
+}
+
+/// Whether [`critical_s`] solves `dir` at resolution `n_edges` as the inextensible rod by KKT
+/// Newton (module docs, "Inextensibility"): where the direction's curvature share is at least
+/// `max(`[`MIN_KAPPA_HAT`]`, `[`MIN_KAPPA_HAT_PER_EDGE`]`·n)`. Below it the constraint
+/// Jacobian of the edge lengths is too close to rank-deficient (a uniform axial force is
+/// invisible on a straight rod; its smallest singular value is the edges' turning angle ≈ κ·ē)
+/// and the augmented Lagrangian of the penalty rod is used, with the extensibility guard
+/// ([`check_extensibility`]).
+pub fn solves_inextensible(dir: &Direction, n_edges: usize) -> bool {
+    dir.kappa >= MIN_KAPPA_HAT.max(MIN_KAPPA_HAT_PER_EDGE * n_edges as Real)
 }
 
 /// The extensibility guard (module docs): at the continuum s* the helix's internal force

@@ -45,6 +45,10 @@ use std::ops::Range;
 /// `x_{i−1}, θ_{i−1}, x_i, θ_i, x_{i+1}`, 11 consecutive DOFs.
 pub const HALF_BANDWIDTH: usize = 10;
 
+/// Half-bandwidth of the KKT matrix of the inextensible rod ([`crate::rod::inextensible`]):
+/// 5 unknowns per node (x, λ, θ), a bend stencil `x_{i−1} … x_{i+1}` spans 13.
+pub const KKT_HALF_BANDWIDTH: usize = 12;
+
 /// A symmetric banded matrix (lower band stored; see the module docs for the layout).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BandedSym {
@@ -132,6 +136,17 @@ impl BandedSym {
         }
     }
 
+    /// The stored lower band (layout in the module docs): entry `A[i, j]`, `j ≤ i ≤ j + p`, at
+    /// `j·(p+1) + (i − j)`.
+    pub fn band(&self) -> &[Real] {
+        &self.data
+    }
+
+    /// The stored lower band, writable (same layout as [`BandedSym::band`]).
+    pub fn band_mut(&mut self) -> &mut [Real] {
+        &mut self.data
+    }
+
     /// The dense copy (tests and diagnostics only: allocates).
     pub fn to_dense(&self) -> nalgebra::DMatrix<Real> {
         nalgebra::DMatrix::from_fn(self.n, self.n, |i, j| self.get(i, j))
@@ -214,6 +229,9 @@ impl BandedLdlt {
         if p == HALF_BANDWIDTH {
             return self.factor_fixed::<HALF_BANDWIDTH>(a, r);
         }
+        if p == KKT_HALF_BANDWIDTH {
+            return self.factor_fixed::<KKT_HALF_BANDWIDTH>(a, r);
+        }
         let m = r.len();
         let lo_r = r.start;
         self.m = m;
@@ -269,7 +287,7 @@ impl BandedLdlt {
     }
 
     /// [`BandedLdlt::factor`] for the half-bandwidth `P` known at compile time (the DER
-    /// Hessian's): the same `L·D·Lᵀ`, computed right-looking ("outer product") on a working copy
+    /// Hessian's, 10, and the inextensible rod's KKT matrix's, 12): the same `L·D·Lᵀ`, computed right-looking ("outer product") on a working copy
     /// of the band, whose fixed-length column updates the compiler unrolls and vectorizes
     /// (≈ 4× faster than the row-oriented loop at `P = 10`). Column `k`: `d_k = W_kk`,
     /// `L_{k+r,k} = W_{k+r,k}/d_k`, then `W_{k+r,k+c} −= L_{k+r,k}·W_{k+c,k}` for `1 ≤ c ≤ r ≤ P`.
@@ -278,7 +296,7 @@ impl BandedLdlt {
         a: &BandedSym,
         r: Range<usize>,
     ) -> Result<(), PivotError> {
-        const { assert!(P == 10) };
+        const { assert!(P == HALF_BANDWIDTH || P == KKT_HALF_BANDWIDTH) };
         let pp = P + 1;
         let m = r.len();
         let lo = r.start;
@@ -318,6 +336,10 @@ impl BandedLdlt {
             update_column::<P, 8>(win, &lcol);
             update_column::<P, 9>(win, &lcol);
             update_column::<P, 10>(win, &lcol);
+            if P > 10 {
+                update_column::<P, 11>(win, &lcol);
+                update_column::<P, 12>(win, &lcol);
+            }
             for t in 1..=P.min(m - 1 - k) {
                 self.l[(k + t) * pp + (P - t)] = lcol[t];
             }
@@ -405,9 +427,12 @@ impl BandedLdlt {
 /// [`BandedLdlt::factor_fixed`] (`win[c·(P+1) + t − c]` is `W[k + t, k + c]`): constant trip count.
 #[inline(always)]
 fn update_column<const P: usize, const C: usize>(win: &mut [Real], lcol: &[Real; 16]) {
+    if C > P {
+        return;
+    }
     let pp = P + 1;
     let uc = win[C];
-    let dst = &mut win[C * pp..C * pp + (P + 1 - C)];
+    let dst = &mut win[C * pp..C * pp + (P + 1).saturating_sub(C)];
     for (x, l) in dst.iter_mut().zip(&lcol[C..=P]) {
         *x -= l * uc;
     }

@@ -9,6 +9,7 @@
 //! | [`banded`] | [`BandedSym`] storage and [`BandedLdlt`] factorization with inertia |
 //! | [`clamp`] | clamped boundary conditions from an end pose (fixed or time-varying) |
 //! | [`statics`] | Newton equilibrium on the free DOFs and the stability (inertia) test |
+//! | [`inextensible`] | the same for the inextensible rod: Newton on the banded KKT system, stability from its inertia |
 //! | [`workspace`] | [`Workspace`]: every buffer a Newton iteration needs, sized once per rod |
 //!
 //! # DOF order and bandwidth
@@ -26,6 +27,7 @@ pub mod banded;
 pub mod clamp;
 pub mod dynamics;
 pub mod energy;
+pub mod inextensible;
 pub mod params;
 pub mod state;
 pub mod statics;

@@ -150,8 +150,10 @@ fn assemble(
         h.fill_zero();
     }
     let mut total = 0.0;
-    // Stretching: 7-DOF stencil [x_j, θ_j, x_{j+1}] at offset 4j.
-    for j in 0..n {
+    // Stretching: 7-DOF stencil [x_j, θ_j, x_{j+1}] at offset 4j (nothing at k_s = 0, the
+    // inextensible rod of `rod::inextensible`).
+    let stretch_edges = if mat.stretch == 0.0 { 0 } else { n };
+    for j in 0..stretch_edges {
         let (e, ge, he) = stretch::edge(&s.edge(j), rod.stretch_rest_length(j), mat.stretch);
         total += e;
         let o = 4 * j;
