@@ -34,6 +34,10 @@
 
 use crate::math::{Mat3, Real, Vec3};
 
+/// The first director `d1` is refused when its part normal to the first tangent is below this
+/// fraction of its length (parallel to the tangent: no frame can be built from it).
+const PARALLEL_D1_REL: Real = 1e-12;
+
 /// `P_{a→b}(v)`: the parallel transport of `v` from unit vector `a` to unit vector `b` (the
 /// minimal rotation taking `a` to `b`). See the module docs.
 ///
@@ -110,7 +114,7 @@ impl RodState {
         }
         let d = first_d1 - tangent[0] * tangent[0].dot(first_d1);
         let dn = d.norm();
-        if dn.is_nan() || dn <= 1e-12 * first_d1.norm() {
+        if dn.is_nan() || dn <= PARALLEL_D1_REL * first_d1.norm() {
             return None;
         }
         let mut d1 = Vec::with_capacity(n);

@@ -30,6 +30,12 @@ use std::ops::Range;
 
 /// The residual floor accepted when Newton stalls, as a multiple of `rel_residual_tol`.
 const FLOOR_FACTOR: Real = 1e3;
+/// Default Newton step tolerance of a static solve ([`NewtonParams::step_tol`]): the max-norm of
+/// the update, nondimensional (positions in units of L, angles in radians).
+pub const DEFAULT_STEP_TOL: Real = 1e-11;
+/// Default relative residual tolerance of a static solve ([`NewtonParams::rel_residual_tol`]):
+/// the free gradient's max-norm relative to `k_b + ‖g‖∞` (module docs, "Convergence").
+pub const DEFAULT_REL_RESIDUAL_TOL: Real = 1e-10;
 /// Round-off of the stretching force in units of `k_s·ε` counted into the residual floor (a
 /// node's gradient sums the forces of two edges, each with a few roundings).
 const STRETCH_ROUNDOFF: Real = 16.0;
@@ -52,8 +58,8 @@ impl Default for NewtonParams {
     fn default() -> Self {
         NewtonParams {
             max_iters: 30,
-            step_tol: 1e-11,
-            rel_residual_tol: 1e-10,
+            step_tol: DEFAULT_STEP_TOL,
+            rel_residual_tol: DEFAULT_REL_RESIDUAL_TOL,
             max_halvings: 12,
         }
     }

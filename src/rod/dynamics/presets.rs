@@ -102,7 +102,7 @@ impl PhysicalRod {
     pub fn paper_sim() -> Self {
         PhysicalRod {
             length: 1.0,
-            radius: 0.781e-3,
+            radius: 0.781e-3, // m (a material property, not a tolerance)
             youngs_modulus: 1.12e9,
             nu: 0.33,
             density: 1180.0,
@@ -114,7 +114,7 @@ impl PhysicalRod {
     pub fn nitinol() -> Self {
         PhysicalRod {
             length: 0.5,
-            radius: 0.5 * 1.5875e-3,
+            radius: 0.5 * 1.5875e-3, // m (a material property, not a tolerance)
             youngs_modulus: 67.5e9,
             nu: 0.33,
             density: 6450.0,

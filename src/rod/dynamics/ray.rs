@@ -65,6 +65,9 @@ use crate::rod::{Rod, RodState};
 const RECORD_SLACK: Real = 1e-9;
 /// The same in s (nondimensional): a step within this of a recording or turning point reaches it.
 const RECORD_SLACK_S: Real = 1e-12;
+/// Round-off allowed between the clamp's nodes and the straight rod's first nodes (both built
+/// from the same `ē` in nondimensional units of order 1): a debug invariant.
+const CLAMP_NODE_ROUNDOFF: Real = 1e-14;
 
 /// Parameters of one simulated ray (SI units unless stated).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,7 +154,7 @@ impl Default for SimParams {
         SimParams {
             rod: PhysicalRod::paper_sim(),
             n_edges: 40,
-            dt: 2e-3,
+            dt: 2e-3, // s (the time step, not a tolerance)
             speed: 0.1,
             gravity: Vec3::zeros(),
             damping: 0.0,
@@ -345,7 +348,9 @@ pub fn simulate_ray(
         .map(|i| Vec3::new(0.0, 0.0, placement.node_arclength(n, i, 1.0)))
         .collect();
     let [a, b] = clamp_nodes(placement, End::Start, &Vec3::zeros(), &Vec3::z(), h);
-    debug_assert!((a - nodes[0]).norm() < 1e-14 && (b - nodes[1]).norm() < 1e-14);
+    debug_assert!(
+        (a - nodes[0]).norm() < CLAMP_NODE_ROUNDOFF && (b - nodes[1]).norm() < CLAMP_NODE_ROUNDOFF
+    );
     let state = RodState::from_nodes(&nodes, &vec![0.0; n], &Vec3::x())
         .ok_or_else(|| Error::invalid("n_edges", n, "degenerate initial rod"))?;
     // Nondimensional weight per length: ρA g L³/k_b.

@@ -57,6 +57,9 @@ pub const BACKTRACK_GROWTH: Real = 1e4;
 pub const RELAX_STEP: Real = 0.1;
 /// Maximum proximal steps of [`Stepper::relax`].
 pub const RELAX_MAX_STEPS: usize = 2000;
+/// Default Newton step tolerance of an implicit step ([`StepperParams::step_tol`]): the max-norm
+/// of the update, nondimensional (positions in units of L, angles in radians).
+pub const DEFAULT_STEP_TOL: Real = 1e-10;
 
 /// The pose imposed on the last clamped edge: the rod's end point and material frame
 /// `[m¹ m² t]` (columns), nondimensional (L = 1).
@@ -84,7 +87,7 @@ impl Default for StepperParams {
     fn default() -> Self {
         StepperParams {
             max_iters: 25,
-            step_tol: 1e-10,
+            step_tol: DEFAULT_STEP_TOL,
             max_subdivisions: 6,
         }
     }
