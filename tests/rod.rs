@@ -861,7 +861,8 @@ fn der_order_two_on_hard_directions() {
 /// 1e-8 (root finding only): the frames turn 1.4 rad per edge there. At n = 25 it is now
 /// refused by the resolution guard (naming the n needed); from n = 50 on the est_error includes
 /// the discretization bound and covers the actual error, and from n = 100 on it is useful
-/// (below 8 %).
+/// (below 12 %: 10.9 % at n = 100 since `DISCRETIZATION_COEFF` rose from 0.6 to 1.0 for the
+/// large-s* band; the actual error there is 1.4 %).
 #[test]
 fn der_n25_outlier_est_error_covers_the_discretization_error() {
     use helixreach::boundary::continuum;
@@ -876,7 +877,7 @@ fn der_n25_outlier_est_error_covers_the_discretization_error() {
             Ok(r) => {
                 assert!(n >= 50, "n = {n}: {r:?}");
                 assert!((r.s_star - c).abs() <= r.est_error, "n = {n}: {r:?} vs {c}");
-                assert!(n < 100 || r.est_error < 0.08 * c, "n = {n}: {r:?}");
+                assert!(n < 100 || r.est_error < 0.12 * c, "n = {n}: {r:?}");
             }
             Err(e) => assert!(
                 n < 50 && e.to_string().contains("use n_edges >="),
@@ -913,7 +914,7 @@ fn der_n100_is_right_where_newton_used_to_fail() {
 /// n = 100 is far from its asymptotic regime ((0.0328, 0.4693, 0.8824): continuum s* = 96.65,
 /// DER 70.3 ± 17, 27 % off, was written as a number). At n = 100 it is now an error naming the
 /// n needed (1.24 rad per edge); from n = 200 on the result is within its est_error of the
-/// continuum (12 % off at n = 200, 1.2 % at n = 800); and on
+/// continuum (12 % off at n = 200 with an est_error of 38 %, 1.2 % at n = 800); and on
 /// (0.035, 0.4236, 0.9052) at n = 200 (143.5 against 92.87, pre-asymptotic) the check
 /// against the continuum turns the number into an error.
 #[test]
@@ -938,7 +939,7 @@ fn der_unresolved_large_s_band_is_an_error_not_a_number() {
     for n in [200usize, 800] {
         let r = at(n).unwrap();
         assert!((r.s_star - c).abs() <= r.est_error, "n = {n}: {r:?} vs {c}");
-        assert!(r.est_error < 0.25 * c, "n = {n}: {r:?}");
+        assert!(r.est_error < 0.4 * c, "n = {n}: {r:?}");
         assert!(
             n != 800 || (r.s_star - c).abs() < 0.02 * c,
             "n = {n}: {r:?}"
@@ -1000,7 +1001,8 @@ fn der_check_against_continuum_names_the_disagreement() {
 /// The empirical discretization bound of `est_error` (`DISCRETIZATION_COEFF·φ²·s*`) covers the
 /// actual error on its own: on 40 half-sphere directions at n = 50 no result is refused by the
 /// check against the continuum (only the documented guards may refuse a direction), and the
-/// bound is useful (below 50 % of s* everywhere, median below 3 %).
+/// bound is useful (below 50 % of s* everywhere, median below 5 %: `DISCRETIZATION_COEFF` = 1.0
+/// covers the large-s* band, 1.7× the former 0.6).
 #[test]
 fn der_est_error_covers_the_error_on_a_sample() {
     use helixreach::boundary::continuum;
@@ -1026,7 +1028,7 @@ fn der_est_error_covers_the_error_on_a_sample() {
     }
     assert!(solved >= 36, "{solved}");
     rel.sort_by(|a, b| a.total_cmp(b));
-    assert!(rel[rel.len() / 2] < 0.03, "{rel:?}");
+    assert!(rel[rel.len() / 2] < 0.05, "{rel:?}");
 }
 
 /// s* on `d` at n = 100 along a ray seeded like `critical_s` (continuum s* × 0.985), with or
@@ -1086,4 +1088,59 @@ fn der_near_kappa_zero_takes_no_shortcut_and_is_right() {
         (r.s_star - c).abs() <= r.est_error && (r.s_star / c - 1.0).abs() < 2e-3,
         "{r:?} vs {c}"
     );
+}
+
+/// The 2,000-direction half-sphere's direction nearest `v` (the exact lattice point).
+fn half_sphere_2000(v: [Real; 3]) -> Direction {
+    let dirs = helixreach::directions::fibonacci(2000, false).unwrap();
+    let dist =
+        |d: &Direction| (d.kappa - v[0]).abs() + (d.tau - v[1]).abs() + (d.omega - v[2]).abs();
+    *dirs
+        .iter()
+        .min_by(|a, b| dist(a).total_cmp(&dist(b)))
+        .unwrap()
+}
+
+/// Issue 13 (truth): the two directions of the half-sphere refused at n = 200 by the check
+/// against the continuum. The DER root was right and its `est_error` too small: the DER s*
+/// converges to the continuum (an independent method, here to 1e-11) at order 2 — err(400) /
+/// err(800) ≈ 4 on both — so it is no neighbouring branch, but |s*_n/s*_∞ − 1|/φ² reaches 0.70
+/// (n = 200) and 0.85 (n = 400), above the former `DISCRETIZATION_COEFF` 0.6. Now (0.0413,
+/// −0.4323, −0.9008) at n = 200 and (0.0053, 0.4238, 0.9057) at n = 800 are numbers within
+/// their `est_error` of the continuum; (0.0053, …) at n = 200 (stable past s_max, continuum
+/// 107.9) is still an error, never a number.
+#[test]
+fn der_large_s_star_band_est_error_covers_the_continuum() {
+    use helixreach::boundary::continuum;
+    use helixreach::error::Error;
+    let a = half_sphere_2000([0.0053, 0.4238, 0.9057]);
+    let b = half_sphere_2000([0.0413, -0.4323, -0.9008]);
+    let p = |n| DerBoundaryParams {
+        n_edges: n,
+        ..Default::default()
+    };
+    for (d, n) in [(b, 200), (a, 800)] {
+        let c = continuum::critical_s(&d, 1e-11).unwrap().s_star;
+        let r = critical_s(&d, &p(n)).unwrap_or_else(|e| panic!("{d:?} n = {n}: {e}"));
+        assert!(
+            (r.s_star - c).abs() <= r.est_error,
+            "{d:?} n = {n}: {r:?} vs {c}"
+        );
+    }
+    let e = critical_s(&a, &p(200)).unwrap_err();
+    assert!(matches!(e, Error::Inconsistent { .. }), "{e}");
+    // Order 2 towards the continuum on the raw rays (no check, seeded like critical_s).
+    for d in [a, b] {
+        let c = continuum::critical_s(&d, 1e-11).unwrap().s_star;
+        let err = |n| {
+            let mut ray = DerRay::new(&d, &p(n)).unwrap();
+            ray.set_inextensible(true);
+            (ray.critical_s_from(0.985 * c, 1.02).unwrap().s_star - c).abs()
+        };
+        let ratio = err(400) / err(800);
+        assert!(
+            (3.0..6.0).contains(&ratio),
+            "{d:?}: err(400)/err(800) = {ratio}"
+        );
+    }
 }

@@ -8,8 +8,9 @@
 //! complete); checkpoints go to `OUT.partial`; `--out -` streams to stdout.
 //!
 //! With `--method der` the DER-statics boundary (`--n-edges N`) is computed instead; its
-//! `resolution` column is `n=N` and `est_error` is the root-finding error only (not the
-//! discretization error).
+//! `resolution` column is `n=N` and `est_error` is the root-finding error plus the empirical
+//! discretization bound of `boundary::der` (checked against the continuum: a DER s* outside it
+//! is an error, not a row).
 //!
 //! `--speed-report FILE` instead measures time per direction (one thread's CPU time, best of 3) and the error against a
 //! tight-tolerance continuum reference, for several resolutions of the chosen method, and writes
