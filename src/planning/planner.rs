@@ -713,7 +713,7 @@ impl Planner {
                 ));
             }
             let (dp, dr) = target.errors(&self.model.chain().tool_pose(q));
-            if !(dp <= 1e-6 && dr <= 1e-6) {
+            if !(dp <= tol::TRAJ_POSITION && dr <= tol::TRAJ_ANGLE) {
                 return Err(Error::invalid(
                     "start configuration",
                     format!("{q:?}"),
@@ -1076,7 +1076,7 @@ impl Planner {
         let p = &self.rig.planner;
         let settings = WalkSettings {
             max_step: p.self_motion_step,
-            min_step: 1e-4,
+            min_step: crate::planning::witness::WALK_MIN_STEP,
             joint_step_bound: p.max_joint_step,
             max_samples: MAX_WALK_SAMPLES,
         };

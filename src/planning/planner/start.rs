@@ -187,7 +187,7 @@ impl Planner {
         let p = &self.rig.planner;
         let settings = WalkSettings {
             max_step: p.self_motion_step,
-            min_step: 1e-4,
+            min_step: crate::planning::witness::WALK_MIN_STEP,
             joint_step_bound: p.max_joint_step,
             max_samples: MAX_WALK_SAMPLES,
         };
