@@ -380,6 +380,18 @@ struct Scratch {
 }
 
 impl Planner {
+    /// The self-motion walk settings of this rig (resolution `planner.self_motion_step`, steps
+    /// within `planner.max_joint_step`).
+    fn walk_settings(&self) -> WalkSettings {
+        let p = &self.rig.planner;
+        WalkSettings {
+            max_step: p.self_motion_step,
+            min_step: crate::planning::witness::WALK_MIN_STEP,
+            joint_step_bound: p.max_joint_step,
+            max_samples: MAX_WALK_SAMPLES,
+        }
+    }
+
     /// Load the rig's robot and scene. Errors name the rig file: a robot that cannot be loaded,
     /// a missing tip link, joint weights of the wrong length, an unreachable clamp (no
     /// collision-free IK solution for the straight rod in the rig's roll mode).
@@ -1073,13 +1085,7 @@ impl Planner {
         if self.dof != 7 {
             return Ok(None);
         }
-        let p = &self.rig.planner;
-        let settings = WalkSettings {
-            max_step: p.self_motion_step,
-            min_step: crate::planning::witness::WALK_MIN_STEP,
-            joint_step_bound: p.max_joint_step,
-            max_samples: MAX_WALK_SAMPLES,
-        };
+        let settings = self.walk_settings();
         let mut sh = self.new_scratch(); // held rod
         let mut sn = self.new_scratch(); // next rod
         self.rod_nodes(held.kto, azimuth, &mut sh.rod)?;
@@ -1090,7 +1096,7 @@ impl Planner {
         order.sort_by(|&a, &b| prev_cost[a].total_cmp(&prev_cost[b]).then(a.cmp(&b)));
         let mut visited: Vec<self_motion::Q> = Vec::new();
         let near = |a: &self_motion::Q, b: &self_motion::Q| {
-            (0..self.dof).all(|j| (a[j] - b[j]).abs() <= 0.5 * p.max_joint_step)
+            (0..self.dof).all(|j| (a[j] - b[j]).abs() <= 0.5 * settings.joint_step_bound)
         };
         for &i in &order {
             let start = prev[i];

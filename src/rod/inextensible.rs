@@ -75,11 +75,11 @@
 //! assert!((1..n - 1).all(|j| (st.edge(j).norm() - h).abs() < 1e-12));
 //! ```
 
-use super::banded::{BandedLdlt, BandedSym, PivotError, KKT_HALF_BANDWIDTH};
+use super::banded::{BandedLdlt, BandedSym, KKT_HALF_BANDWIDTH};
 use super::energy;
 use super::params::Rod;
 use super::state::RodState;
-use super::statics::{Equilibrium, NewtonParams};
+use super::statics::{inf_norm, singular, Equilibrium, NewtonParams};
 use super::workspace::Workspace;
 use crate::error::{Error, Result};
 use crate::math::{Mat3, Real};
@@ -324,18 +324,6 @@ impl KktWorkspace {
     }
 }
 
-fn inf_norm(v: &[Real]) -> Real {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
-}
-
-fn singular(e: PivotError, iterations: usize) -> Error {
-    Error::NotConverged {
-        what: format!("inextensible DER Newton ({e}: singular KKT matrix)"),
-        iterations,
-        residual: Real::NAN,
-    }
-}
-
 /// Solve for the equilibrium of the inextensible rod on the free DOFs `free`, starting from
 /// `state` (reference frames up to date) and the multipliers in `kkt` ([`KktWorkspace::lambda`];
 /// 0 is a valid start). The edges are inextensible: `rod.material.stretch` must be 0 (the
@@ -398,7 +386,7 @@ fn solve_impl(
         kkt.build(rod, state, &ws.grad, &ws.hess);
         kkt.ldlt
             .factor(&kkt.kkt, 0..dim)
-            .map_err(|er| singular(er, it))?;
+            .map_err(|er| singular("inextensible DER Newton", "KKT matrix", er, it))?;
         let neg = kkt.ldlt.inertia().1;
         if neg < m_c {
             return Err(Error::NotConverged {

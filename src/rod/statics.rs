@@ -85,13 +85,15 @@ impl Equilibrium {
     }
 }
 
-fn inf_norm(v: &[Real]) -> Real {
+/// The max norm ‖v‖∞.
+pub(crate) fn inf_norm(v: &[Real]) -> Real {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
-fn singular(e: PivotError, iterations: usize) -> Error {
+/// The error of a Newton solve `solver` whose matrix `matrix` has no LDLᵀ.
+pub(crate) fn singular(solver: &str, matrix: &str, e: PivotError, iterations: usize) -> Error {
     Error::NotConverged {
-        what: format!("DER Newton ({e}: singular free Hessian)"),
+        what: format!("{solver} ({e}: singular {matrix})"),
         iterations,
         residual: Real::NAN,
     }
@@ -130,7 +132,7 @@ pub fn solve(
             );
             ws.ldlt
                 .factor(&ws.hess, free.clone())
-                .map_err(|er| singular(er, it))?;
+                .map_err(|er| singular("DER Newton", "free Hessian", er, it))?;
             let e_here = e;
             let done = |negative| Equilibrium {
                 iterations: it,
@@ -222,6 +224,8 @@ pub fn negative_eigenvalues(
     ws: &mut Workspace,
 ) -> Result<usize> {
     energy::hessian(rod, state, &mut ws.hess);
-    ws.ldlt.factor(&ws.hess, free).map_err(|e| singular(e, 0))?;
+    ws.ldlt
+        .factor(&ws.hess, free)
+        .map_err(|e| singular("DER Newton", "free Hessian", e, 0))?;
     Ok(ws.ldlt.inertia().1)
 }

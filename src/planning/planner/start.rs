@@ -31,12 +31,12 @@
 //! levels take prefixes ([`farthest_order`]); the first rung is the `redundancy_samples` most
 //! diverse solutions ([`farthest_indices`]).
 
-use super::{node, Node, Planner, Scratch, StartSet, MAX_WALK_SAMPLES};
+use super::{node, Node, Planner, Scratch, StartSet};
 use crate::math::{Iso3, Real, Vec3};
 use crate::planning::ladder::{BlockCause, CauseCounts};
 use crate::planning::pose_path::Waypoint;
 use crate::planning::rig::RollMode;
-use crate::planning::self_motion::{self, Held, WalkSettings};
+use crate::planning::self_motion::{self, Held};
 use crate::robot::{IkParams, IkSolver};
 
 /// Roll step of the walks that join motor start components (rad): half the 0.05 rad of the
@@ -184,13 +184,7 @@ impl Planner {
         let Ok(solver) = IkSolver::new(&self.model, self.ik.clone()) else {
             return ((0..nodes.len()).collect(), vec![Vec::new(); nodes.len()]);
         };
-        let p = &self.rig.planner;
-        let settings = WalkSettings {
-            max_step: p.self_motion_step,
-            min_step: crate::planning::witness::WALK_MIN_STEP,
-            joint_step_bound: p.max_joint_step,
-            max_samples: MAX_WALK_SAMPLES,
-        };
+        let settings = self.walk_settings();
         let mut next = 0;
         for i in 0..nodes.len() {
             if label[i] != usize::MAX {
@@ -223,8 +217,9 @@ impl Planner {
                     for (j, n) in nodes.iter().enumerate() {
                         if label[j] == usize::MAX
                             && samples.iter().any(|q| {
-                                (0..self.dof)
-                                    .all(|d| (q[d] - n.q[d]).abs() <= 0.5 * p.max_joint_step)
+                                (0..self.dof).all(|d| {
+                                    (q[d] - n.q[d]).abs() <= 0.5 * settings.joint_step_bound
+                                })
                             })
                         {
                             label[j] = next;
