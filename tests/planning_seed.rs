@@ -468,6 +468,70 @@ fn answers_are_monotone_per_direction() {
     }
 }
 
+/// Reconfiguration never reaches less *except by the gates' bound*: on the two quarter-sphere
+/// directions (2,000-direction lattice, indices 48 and 80; roll `motor`) where the 500-direction
+/// study found s lower with reconfiguration than without (by 0.017 and 0.015), the cause is the
+/// pointwise gate: with reconfiguration the first motor plan stops (by a discontinuity) where
+/// the gate skips every further stage, without it the plan stops elsewhere and the levels run.
+/// With the gates off both reach the same s; with them on the class is the same and the
+/// difference is under one regular waypoint interval (the gate's documented bound).
+#[test]
+fn reconfiguration_reaches_less_only_by_the_gates_bound() {
+    let rig = Rig::load("sawyer-seed").unwrap();
+    let lattice = helixreach::directions::fibonacci(2000, true).unwrap();
+    let planners: Vec<(bool, bool, Planner)> =
+        [(true, true), (true, false), (false, true), (false, false)]
+            .into_iter()
+            .map(|(gate, reconf)| {
+                let mut r = rig.clone();
+                r.planner.allow_reconfiguration = reconf;
+                let mut p = Planner::new(r).unwrap();
+                p.set_level_gate(gate);
+                (gate, reconf, p)
+            })
+            .collect();
+    let cases: Vec<(usize, usize)> = [48usize, 80]
+        .into_iter()
+        .flat_map(|i| (0..planners.len()).map(move |k| (i, k)))
+        .collect();
+    let plans: Vec<_> = cases
+        .par_iter()
+        .map(|&(i, k)| {
+            let d = lattice[i];
+            planners[k]
+                .2
+                .plan_ray(&d, s_star(&d), 0.0, RollMode::Motor, false)
+                .unwrap()
+        })
+        .collect();
+    for (pair, chunk) in cases.chunks(4).zip(plans.chunks(4)) {
+        let d = lattice[pair[0].0];
+        let [gated_rec, gated_norec, free_rec, free_norec] = chunk else {
+            unreachable!()
+        };
+        let ctx = format!(
+            "{d:?}: gated rec {} norec {}, ungated rec {} norec {}",
+            gated_rec.s_reached, gated_norec.s_reached, free_rec.s_reached, free_norec.s_reached
+        );
+        eprintln!("{ctx}");
+        // Without the gates: monotone, and the same s here.
+        assert!(free_rec.s_reached >= free_norec.s_reached, "{ctx}");
+        // With them: the same class, less by under one regular waypoint interval.
+        assert_eq!(gated_rec.class, gated_norec.class, "{ctx}");
+        assert!(gated_rec.levels_gated, "{ctx}");
+        let ray = Ray {
+            dir: [d.kappa, d.tau, d.omega],
+            azimuth: 0.0,
+        };
+        let wps = pose_path(&rig, &ray, gated_rec.s_end, &Spacing::of(&rig)).unwrap();
+        let next = wps.iter().find(|w| w.s > gated_rec.s_reached).unwrap().s;
+        assert!(
+            gated_norec.s_reached < next,
+            "{ctx}: beyond the interval end {next}"
+        );
+    }
+}
+
 // ------------------------------------------------------------------------------------------
 // The dense reference.
 

@@ -115,10 +115,12 @@
 //! re-checked, and becomes a `reconfigure` piece of the path (s constant). The ladder then
 //! restarts from that configuration. Reconfiguration only acts where the plan without it stops,
 //! so allowing it never makes a ray's class worse (every one of 500 quarter-sphere rays, both
-//! roll modes, README). The farthest s is not strictly monotone: in roll `motor` 2 of those 500
-//! partial rays reach 0.015 and 0.017 less with reconfiguration than without (less than one
-//! waypoint interval, ≈ 0.026 there; each stage's start and gate depend on where the previous
-//! stage stopped) — not yet explained further. The walk covers the connected valid component of each node
+//! roll modes, README). The farthest s is monotone up to the pointwise gate's bound (less
+//! than one waypoint interval): in roll `motor` 2 of those 500 partial rays reach 0.015 and
+//! 0.017 less with reconfiguration than without (intervals ≈ 0.026 there). Both are the gate:
+//! with reconfiguration the first motor plan stops at a discontinuity where the gate skips every
+//! further stage; without it that plan stops elsewhere and the levels run on. With the gates off
+//! both reach the same s (test `reconfiguration_reaches_less_only_by_the_gates_bound`). The walk covers the connected valid component of each node
 //! at the walk resolution; it does not search components no reachable node lies on.
 //!
 //! # Roll mode `motor` contains `fixed`
