@@ -155,7 +155,7 @@ pub(super) enum Part<'a> {
 impl Part<'_> {
     /// Bounding ball (centre, radius).
     #[inline]
-    fn bound(&self) -> (Vec3, Real) {
+    pub(super) fn bound(&self) -> (Vec3, Real) {
         match *self {
             Part::Body(b, p) => (p.center, b.radius),
             Part::Segment(a, b, r) => (0.5 * (a + b), r + 0.5 * (b - a).norm()),

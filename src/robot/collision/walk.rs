@@ -13,6 +13,9 @@ use std::ops::ControlFlow;
 
 /// What a walk does with each pair.
 pub(super) trait Visit {
+    /// Whether the walk may skip pairs whose bounding balls are disjoint (a boolean test: such
+    /// a pair never intersects). Distance queries see every pair.
+    const SKIP_DISJOINT: bool = false;
     /// One pair: parties `a`, `b` and their posed parts.
     fn visit(&mut self, a: BodyRef, x: &Part<'_>, b: BodyRef, y: &Part<'_>) -> ControlFlow<()>;
 }
@@ -22,6 +25,8 @@ pub(super) trait Visit {
 pub(super) struct FirstHit(pub(super) Option<Contact>);
 
 impl Visit for FirstHit {
+    const SKIP_DISJOINT: bool = true;
+
     #[inline]
     fn visit(&mut self, a: BodyRef, x: &Part<'_>, b: BodyRef, y: &Part<'_>) -> ControlFlow<()> {
         if intersects(x, y) {
@@ -50,6 +55,13 @@ impl Visit for Nearest {
         ControlFlow::Continue(())
     }
 }
+
+/// Rod segments per bounding-ball chunk of [`CollisionModel::walk_rod`].
+const ROD_CHUNK: usize = 6;
+
+/// Slack added to a chunk's bounding-ball radius (m) so that rounding never makes the chunk test
+/// stricter than the per-pair test it stands for; not a tolerance of any result.
+const CHUNK_SLACK: Real = 1e-9;
 
 /// The rod segments checked: `(index, start, end)`, skipping those within the ignored arc
 /// lengths of either end.
@@ -109,21 +121,94 @@ impl CollisionModel {
     }
 
     /// Rod-segment pairs (robot bodies, then obstacles if the rod asks for them).
+    ///
+    /// For a visitor that skips disjoint pairs ([`Visit::SKIP_DISJOINT`]) the segments are taken
+    /// `ROD_CHUNK` at a time: a ball holding the chunk's segment balls is tested against each
+    /// body's ball once, and the chunk's segments meet only the bodies it overlaps. Skipped
+    /// pairs have disjoint balls, which [`intersects`] rejects first, and the visiting order of
+    /// the others is unchanged, so the first hit is the same.
     pub(super) fn walk_rod<V: Visit>(
         &self,
         ws: &CollisionWorkspace,
         rod: &RodGeometry<'_>,
         v: &mut V,
     ) -> ControlFlow<()> {
-        for (i, a, b) in rod_segments(rod) {
-            let x = Part::Segment(a, b, rod.radius);
+        if !V::SKIP_DISJOINT || self.bodies.len() > u64::BITS as usize {
+            for (i, a, b) in rod_segments(rod) {
+                self.visit_segment(ws, rod, v, i, a, b, u64::MAX)?;
+            }
+            return ControlFlow::Continue(());
+        }
+        let mut chunk = [(0usize, Vec3::zeros(), Vec3::zeros()); ROD_CHUNK];
+        let mut len = 0;
+        let mut segments = rod_segments(rod).peekable();
+        while let Some(seg) = segments.next() {
+            chunk[len] = seg;
+            len += 1;
+            if len < ROD_CHUNK && segments.peek().is_some() {
+                continue;
+            }
+            // The chunk's ball: centre of its end points' box, radius covering every segment
+            // ball (centre at the midpoint, radius r + half the length), plus a rounding slack.
+            let (mut lo, mut hi) = (chunk[0].1, chunk[0].1);
+            for &(_, a, b) in &chunk[..len] {
+                lo = lo.inf(&a.inf(&b));
+                hi = hi.sup(&a.sup(&b));
+            }
+            let c = 0.5 * (lo + hi);
+            let r = chunk[..len]
+                .iter()
+                .map(|&(_, a, b)| (0.5 * (a + b) - c).norm() + 0.5 * (b - a).norm())
+                .fold(0.0, Real::max)
+                + rod.radius
+                + CHUNK_SLACK;
+            let mut mask = 0u64;
+            for (k, (bd, p)) in self.bodies.iter().zip(&ws.posed).enumerate() {
+                let (cb, rb) = Part::Body(bd, p).bound();
+                if (cb - c).norm_squared() <= (r + rb) * (r + rb) {
+                    mask |= 1 << k;
+                }
+            }
+            for &(i, a, b) in &chunk[..len] {
+                self.visit_segment(ws, rod, v, i, a, b, mask)?;
+            }
+            len = 0;
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// One rod segment against the robot bodies selected by `mask` (bit k: body k; `u64::MAX`:
+    /// every body, however many) and, if the rod asks for them, every obstacle.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn visit_segment<V: Visit>(
+        &self,
+        ws: &CollisionWorkspace,
+        rod: &RodGeometry<'_>,
+        v: &mut V,
+        i: usize,
+        a: Vec3,
+        b: Vec3,
+        mask: u64,
+    ) -> ControlFlow<()> {
+        let x = Part::Segment(a, b, rod.radius);
+        if mask == u64::MAX {
             for (bd, p) in self.bodies.iter().zip(&ws.posed) {
                 v.visit(BodyRef::Rod(i), &x, bd.owner.body_ref(), &Part::Body(bd, p))?;
             }
-            if rod.against_scene {
-                for (o, op) in self.obstacles.iter().zip(&self.obstacle_posed) {
-                    v.visit(BodyRef::Rod(i), &x, o.owner.body_ref(), &Part::Body(o, op))?;
-                }
+        } else {
+            // The set bits in increasing order: the bodies' order.
+            let mut m = mask;
+            while m != 0 {
+                let k = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let (bd, p) = (&self.bodies[k], &ws.posed[k]);
+                v.visit(BodyRef::Rod(i), &x, bd.owner.body_ref(), &Part::Body(bd, p))?;
+            }
+        }
+        if rod.against_scene {
+            for (o, op) in self.obstacles.iter().zip(&self.obstacle_posed) {
+                v.visit(BodyRef::Rod(i), &x, o.owner.body_ref(), &Part::Body(o, op))?;
             }
         }
         ControlFlow::Continue(())
@@ -142,5 +227,118 @@ impl CollisionModel {
             Some(r) => self.walk_rod(ws, r, v),
             None => ControlFlow::Continue(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::robot::RobotModel;
+
+    /// [`FirstHit`] without the chunk culling: every pair is tested.
+    #[derive(Debug, Default)]
+    struct FirstHitEveryPair(Option<Contact>);
+
+    impl Visit for FirstHitEveryPair {
+        fn visit(&mut self, a: BodyRef, x: &Part<'_>, b: BodyRef, y: &Part<'_>) -> ControlFlow<()> {
+            if intersects(x, y) {
+                self.0 = Some(Contact {
+                    a,
+                    b,
+                    distance: 0.0,
+                });
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        }
+    }
+
+    /// Every pair a walk visits (parties and bounding balls), never stopping.
+    #[derive(Debug, Default, PartialEq)]
+    struct Record<const SKIP: bool>(Vec<(BodyRef, BodyRef, Vec3, Real, Vec3, Real)>);
+
+    impl<const SKIP: bool> Visit for Record<SKIP> {
+        const SKIP_DISJOINT: bool = SKIP;
+        fn visit(&mut self, a: BodyRef, x: &Part<'_>, b: BodyRef, y: &Part<'_>) -> ControlFlow<()> {
+            let ((cx, rx), (cy, ry)) = (x.bound(), y.bound());
+            self.0.push((a, b, cx, rx, cy, ry));
+            ControlFlow::Continue(())
+        }
+    }
+
+    /// The culled rod walk reports exactly the first hit of the walk over every pair: random
+    /// configurations within the limits, rods of 24 segments from a point near a random link
+    /// to the tool (so some hit and some miss).
+    #[test]
+    fn culled_rod_walk_reports_the_same_first_hit() {
+        let m = RobotModel::load("sawyer", None).unwrap();
+        let cm = CollisionModel::for_model(&m).unwrap();
+        let mut ws = cm.workspace();
+        let (lo, hi) = (m.lower(), m.upper());
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as Real / (1u64 << 53) as Real
+        };
+        let (mut hits, mut misses, mut skipped) = (0, 0, 0usize);
+        for _ in 0..400 {
+            let q: Vec<Real> = (0..7)
+                .map(|j| lo[j] + uniform() * (hi[j] - lo[j]))
+                .collect();
+            cm.update(&q, &mut ws);
+            let frames = cm.link_frames(&ws);
+            let link = (uniform() * frames.len() as Real) as usize % frames.len();
+            let off = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 0.4;
+            let start = frames[link].transform_point(&Vec3::zeros()) + off;
+            let end = m.tool_pose(&q).unwrap().pos;
+            let bulge = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 0.6;
+            let nodes: Vec<Vec3> = (0..=24)
+                .map(|i| {
+                    let t = i as Real / 24.0;
+                    start + (end - start) * t + bulge * (4.0 * t * (1.0 - t))
+                })
+                .collect();
+            let rod = RodGeometry {
+                nodes: &nodes,
+                radius: 0.004,
+                ignore_near_clamp: 0.0,
+                ignore_near_tool: 0.05,
+                against_scene: false,
+            };
+            let culled = CollisionModel::run(|v: &mut FirstHit| cm.walk_rod(&ws, &rod, v)).0;
+            let every =
+                CollisionModel::run(|v: &mut FirstHitEveryPair| cm.walk_rod(&ws, &rod, v)).0;
+            assert_eq!(culled, every, "q = {q:?}");
+            // Every pair the culled walk skips has disjoint bounding balls (the culling's
+            // claim), and the pairs it visits keep their order.
+            let all = CollisionModel::run(|v: &mut Record<false>| cm.walk_rod(&ws, &rod, v)).0;
+            let kept = CollisionModel::run(|v: &mut Record<true>| cm.walk_rod(&ws, &rod, v)).0;
+            let mut k = 0;
+            for p in &all {
+                if kept.get(k) == Some(p) {
+                    k += 1;
+                    continue;
+                }
+                let (cx, rx, cy, ry) = (p.2, p.3, p.4, p.5);
+                assert!(
+                    (cx - cy).norm_squared() > (rx + ry) * (rx + ry),
+                    "skipped a pair with overlapping balls: {:?}–{:?}, q = {q:?}",
+                    p.0,
+                    p.1
+                );
+                skipped += 1;
+            }
+            assert_eq!(k, kept.len(), "the culled walk visited pairs out of order");
+            if culled.is_some() {
+                hits += 1;
+            } else {
+                misses += 1;
+            }
+        }
+        assert!(hits >= 40 && misses >= 40, "hits {hits}, misses {misses}");
+        assert!(skipped > 0, "nothing culled");
     }
 }
