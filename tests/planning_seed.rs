@@ -15,7 +15,7 @@ use common::seed_dir;
 use helixreach::directions::Direction;
 use helixreach::helix::{discrete, Helix};
 use helixreach::math::{rot_z, Mat3, Real, Vec3};
-use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
+use helixreach::planning::planner::{Planner, RayPlan, ReachClass, RigOverrides};
 use helixreach::planning::pose_path::{pose_path, Ray, Spacing};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
 use helixreach::planning::witness::{self, read_seed_runs, SeedRun, Witness, WitnessEnd};
@@ -31,6 +31,17 @@ fn s_star(d: &Direction) -> Real {
     helixreach::boundary::continuum::critical_s(d, 1e-10)
         .unwrap()
         .s_star
+}
+
+/// The end of the regular waypoint interval (azimuth 0, the rig's pose path) in which `plan`
+/// of direction `d` stopped: the first waypoint beyond its s reached.
+fn interval_end(rig: &Rig, d: &Direction, plan: &RayPlan) -> Real {
+    let ray = Ray {
+        dir: [d.kappa, d.tau, d.omega],
+        azimuth: 0.0,
+    };
+    let wps = pose_path(rig, &ray, plan.s_end, &Spacing::of(rig)).unwrap();
+    wps.iter().find(|w| w.s > plan.s_reached).unwrap().s
 }
 
 /// A planner per distinct clamp position (key: whole micrometres).
@@ -226,12 +237,7 @@ fn pointwise_gate_keeps_the_class() {
         assert!(g.s_reached <= u.s_reached, "{ctx}");
         if *expect_gated {
             // Less by under one regular waypoint interval.
-            let ray = Ray {
-                dir: [d.kappa, d.tau, d.omega],
-                azimuth: 0.0,
-            };
-            let wps = pose_path(&rig, &ray, g.s_end, &Spacing::of(&rig)).unwrap();
-            let next = wps.iter().find(|w| w.s > g.s_reached).unwrap().s;
+            let next = interval_end(&rig, d, g);
             assert!(u.s_reached < next, "{ctx}: the levels passed {next}");
         } else {
             assert_eq!(
@@ -273,12 +279,7 @@ fn motor_gate_keeps_the_class() {
     assert_eq!(g.class, u.class, "{ctx}");
     assert_eq!(g.class, ReachClass::Partial, "{ctx}");
     assert!(g.s_reached <= u.s_reached, "{ctx}");
-    let ray = Ray {
-        dir: [d.kappa, d.tau, d.omega],
-        azimuth: 0.0,
-    };
-    let wps = pose_path(&rig, &ray, g.s_end, &Spacing::of(&rig)).unwrap();
-    let next = wps.iter().find(|w| w.s > g.s_reached).unwrap().s;
+    let next = interval_end(&rig, &d, &g);
     assert!(
         u.s_reached < next,
         "{ctx}: the ungated stages passed {next}"
@@ -519,12 +520,7 @@ fn reconfiguration_reaches_less_only_by_the_gates_bound() {
         // With them: the same class, less by under one regular waypoint interval.
         assert_eq!(gated_rec.class, gated_norec.class, "{ctx}");
         assert!(gated_rec.levels_gated, "{ctx}");
-        let ray = Ray {
-            dir: [d.kappa, d.tau, d.omega],
-            azimuth: 0.0,
-        };
-        let wps = pose_path(&rig, &ray, gated_rec.s_end, &Spacing::of(&rig)).unwrap();
-        let next = wps.iter().find(|w| w.s > gated_rec.s_reached).unwrap().s;
+        let next = interval_end(&rig, &d, gated_rec);
         assert!(
             gated_norec.s_reached < next,
             "{ctx}: beyond the interval end {next}"

@@ -237,20 +237,11 @@ mod tests {
 
     /// [`FirstHit`] without the chunk culling: every pair is tested.
     #[derive(Debug, Default)]
-    struct FirstHitEveryPair(Option<Contact>);
+    struct FirstHitEveryPair(FirstHit);
 
     impl Visit for FirstHitEveryPair {
         fn visit(&mut self, a: BodyRef, x: &Part<'_>, b: BodyRef, y: &Part<'_>) -> ControlFlow<()> {
-            if intersects(x, y) {
-                self.0 = Some(Contact {
-                    a,
-                    b,
-                    distance: 0.0,
-                });
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
+            self.0.visit(a, x, b, y)
         }
     }
 
@@ -309,8 +300,9 @@ mod tests {
                 against_scene: false,
             };
             let culled = CollisionModel::run(|v: &mut FirstHit| cm.walk_rod(&ws, &rod, v)).0;
-            let every =
-                CollisionModel::run(|v: &mut FirstHitEveryPair| cm.walk_rod(&ws, &rod, v)).0;
+            let every = CollisionModel::run(|v: &mut FirstHitEveryPair| cm.walk_rod(&ws, &rod, v))
+                .0
+                 .0;
             assert_eq!(culled, every, "q = {q:?}");
             // Every pair the culled walk skips has disjoint bounding balls (the culling's
             // claim), and the pairs it visits keep their order.
