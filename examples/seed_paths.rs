@@ -10,12 +10,16 @@
 //! Prints a Markdown table of the totals and writes one CSV row per run to `--out`
 //! (default `seed_paths.csv`).
 //!
-//! Run: `cargo run --release --example seed_paths -- [--rig RIG] [--margin M] [--out FILE]`
+//! `--roll motor` plans in roll mode `motor` (default `fixed`, as the seed drove), `--azimuths N` tries
+//! N azimuths per ray ([`Planner::plan_best`]; default 1, azimuth 0).
+//!
+//! Run: `cargo run --release --example seed_paths -- [--rig RIG] [--margin M] [--roll fixed|motor]
+//! [--azimuths N] [--out FILE]`
 
 use helixreach::directions::Direction;
 use helixreach::math::Real;
 use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
-use helixreach::planning::rig::{Rig, RollMode};
+use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -113,6 +117,11 @@ fn main() -> anyhow::Result<()> {
         None => vec![0.0, 0.1],
     };
     let out = PathBuf::from(arg("--out").unwrap_or_else(|| "seed_paths.csv".into()));
+    let roll: RollMode = arg("--roll").unwrap_or_else(|| "fixed".into()).parse()?;
+    let n_az: usize = arg("--azimuths").map_or(Ok(1), |x| x.parse())?;
+    anyhow::ensure!(n_az >= 1, "--azimuths: must be at least 1, got 0");
+    helixreach::limits::check_size("--azimuths", n_az, 64)?;
+    let azimuths = azimuth_grid(n_az);
     let seed = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data");
     let runs = read_runs(&seed)?;
     let rig = Rig::load(&rig_name)?;
@@ -146,7 +155,7 @@ fn main() -> anyhow::Result<()> {
             .map(|r| {
                 let p = &planners[&r.clamp.map(|x| (x * 1e6).round() as i64)];
                 let s = helixreach::boundary::continuum::critical_s(&r.dir, 1e-10)?.s_star;
-                let plan = p.plan_ray(&r.dir, s, 0.0, RollMode::Fixed, true)?;
+                let plan = p.plan_best(&r.dir, s, &azimuths, roll, true)?;
                 let traj = p.trajectory(&plan)?;
                 let q: Vec<Vec<Real>> = traj.points.iter().map(|x| x.q.clone()).collect();
                 let ours = quality(&q);
