@@ -18,7 +18,7 @@
 //! Run: `cargo bench --bench planning`.
 use criterion::{criterion_group, criterion_main, Criterion};
 use helixreach::directions::Direction;
-use helixreach::planning::planner::Planner;
+use helixreach::planning::planner::{Planner, ReachClass};
 use helixreach::planning::rig::{Rig, RollMode};
 use std::hint::black_box;
 
@@ -59,7 +59,7 @@ fn sample_report() {
         let c0 = cpu();
         let plan = p.plan_ray(d, s_star, 0.0, RollMode::Fixed, false).unwrap();
         ours.push(cpu() - c0);
-        testable += usize::from(plan.class.as_str() == "testable");
+        testable += usize::from(plan.class == ReachClass::Testable);
         // The peer: fresh rungs at 5 of the ray's waypoints, scaled to all of them.
         let ray = helixreach::planning::pose_path::Ray {
             dir: [d.kappa, d.tau, d.omega],
@@ -74,12 +74,7 @@ fn sample_report() {
         .unwrap();
         let picks: Vec<_> = wps.iter().step_by((wps.len() / 5).max(1)).collect();
         let c0 = cpu();
-        for w in &picks {
-            let t = helixreach::robot::IkTarget::Pose(p.tip_target(&w.tool));
-            for s in solver.solve_all(&t, &[]) {
-                black_box(p.collision().check(s.joints(), &mut ws, None));
-            }
-        }
+        black_box(fresh_rungs(&p, &solver, &mut ws, &picks));
         peer.push((cpu() - c0) / picks.len() as f64 * wps.len() as f64);
     }
     for v in [&mut ours, &mut peer] {
@@ -99,6 +94,24 @@ fn sample_report() {
         1e3 * mean(&peer),
         quantile(&peer, 0.5) / quantile(&ours, 0.5),
     );
+}
+
+/// The Descartes-like peer's work at `picks`: a rung of fresh IK solutions per waypoint
+/// (`solve_all`, j0 sampled), each collision-checked; returns the valid count.
+fn fresh_rungs(
+    p: &Planner,
+    solver: &helixreach::robot::IkSolver<'_>,
+    ws: &mut helixreach::robot::CollisionWorkspace,
+    picks: &[&helixreach::planning::pose_path::Waypoint],
+) -> usize {
+    let mut n = 0usize;
+    for w in picks {
+        let t = helixreach::robot::IkTarget::Pose(p.tip_target(&w.tool));
+        for s in solver.solve_all(&t, &[]) {
+            n += usize::from(p.collision().check(s.joints(), ws, None).is_none());
+        }
+    }
+    n
 }
 
 fn planner(waypoints: usize) -> Planner {
@@ -149,16 +162,7 @@ fn bench_ray(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     let mut ws = p.collision().workspace();
     let picks: Vec<_> = wps.iter().step_by((wps.len() / 20).max(1)).collect();
     g.bench_function("descartes_like_fresh_rungs_20_waypoints", |b| {
-        b.iter(|| {
-            let mut n = 0usize;
-            for w in &picks {
-                let t = helixreach::robot::IkTarget::Pose(p.tip_target(&w.tool));
-                for s in solver.solve_all(&t, &[]) {
-                    n += usize::from(p.collision().check(s.joints(), &mut ws, None).is_none());
-                }
-            }
-            black_box(n)
-        })
+        b.iter(|| black_box(fresh_rungs(&p, &solver, &mut ws, &picks)))
     });
     g.finish();
 }
