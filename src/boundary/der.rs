@@ -589,46 +589,41 @@ impl DerRay {
         if !st.update_reference() {
             return Err(not_converged());
         }
-        if self.kkt.is_some() {
+        let r = if self.kkt.is_some() {
             let quick = NewtonParams {
                 max_iters,
                 ..self.newton
             };
             self.predicted.copy_from_slice(&st.q);
-            let mut r = self.solve_kkt(&mut st, &quick, scale);
+            let r = self.solve_kkt(&mut st, &quick, scale);
             // Branch check: Newton on the inextensible rod converges from far; past a
             // bifurcation it can slide from the prediction onto a buckled, stable equilibrium
             // ((0.16825, −0.5312, −0.8304) at n = 50: 2·10⁻² L from the prediction, where the
             // steps along the branch stay below 6.4·10⁻⁴ L). Such a point is a failed step.
             if r.is_ok() && self.prediction_deviation(&st) > PREDICTION_DEVIATION {
-                r = Err(not_converged());
-            }
-            return match r {
-                Ok(eq) => Ok(self.finish(s, &init, st, eq.negative, eq.iterations, full)),
-                Err(Error::NotConverged { .. }) => {
-                    self.evaluations += 1;
-                    self.newton_iterations += max_iters;
-                    Err(not_converged())
-                }
-                Err(e) => Err(e),
-            };
-        }
-        self.rod.material.stretch = self.newton_stretch();
-        self.set_axial_forces(scale)?;
-        let quick = if full {
-            NewtonParams {
-                max_iters,
-                ..self.newton
+                Err(not_converged())
+            } else {
+                r
             }
         } else {
-            NewtonParams {
-                max_iters,
-                step_tol: STEP_NEWTON_TOL,
-                rel_residual_tol: STEP_NEWTON_TOL,
-                ..self.newton
-            }
+            self.rod.material.stretch = self.newton_stretch();
+            self.set_axial_forces(scale)?;
+            let quick = if full {
+                NewtonParams {
+                    max_iters,
+                    ..self.newton
+                }
+            } else {
+                NewtonParams {
+                    max_iters,
+                    step_tol: STEP_NEWTON_TOL,
+                    rel_residual_tol: STEP_NEWTON_TOL,
+                    ..self.newton
+                }
+            };
+            self.solve_inextensible(&mut st, &quick, full)
         };
-        match self.solve_inextensible(&mut st, &quick, full) {
+        match r {
             Ok(eq) => Ok(self.finish(s, &init, st, eq.negative, eq.iterations, full)),
             Err(Error::NotConverged { .. }) => {
                 self.evaluations += 1;
