@@ -79,15 +79,14 @@ use super::banded::{BandedLdlt, BandedSym, KKT_HALF_BANDWIDTH};
 use super::energy;
 use super::params::Rod;
 use super::state::RodState;
-use super::statics::{inf_norm, singular, Equilibrium, NewtonParams};
+use super::statics::{
+    assemble_trial, backtrack_accepts, inf_norm, singular, Equilibrium, NewtonParams, FLOOR_FACTOR,
+};
 use super::workspace::Workspace;
 use crate::error::{Error, Result};
 use crate::math::{Mat3, Real};
 use std::ops::Range;
 
-/// The residual floor accepted when Newton stalls, as a multiple of `rel_residual_tol` (as in
-/// [`crate::rod::statics`]).
-const FLOOR_FACTOR: Real = 1e3;
 /// The multipliers have converged when their Newton update is at most this fraction of the
 /// residual scale `k_b + ‖∇L‖∞ + max|λ|` (s* depends on λ through the constrained Hessian, by
 /// ≈ δλ/2λ relative).
@@ -444,15 +443,10 @@ fn solve_impl(
             }
             if trial.update_reference() {
                 let full = alpha == 1.0;
-                let e_trial = if full {
-                    energy::energy_gradient_hessian(rod, trial, &mut ws.grad, &mut ws.hess)
-                } else {
-                    energy::gradient(rod, trial, &mut ws.grad);
-                    Real::NAN
-                };
+                let e_trial = assemble_trial(rod, trial, full, ws);
                 kkt.add_constraint_forces(trial, &kkt.lambda_trial, &mut ws.grad);
                 let r = kkt.residual(rod, trial, &ws.grad);
-                if r.is_finite() && (r < res || (alpha < 1.0 / 1024.0 && !at_floor)) {
+                if backtrack_accepts(r, res, alpha, at_floor) {
                     accepted = true;
                     if full {
                         assembled = true;

@@ -28,8 +28,9 @@ use crate::error::{Error, Result};
 use crate::math::Real;
 use std::ops::Range;
 
-/// The residual floor accepted when Newton stalls, as a multiple of `rel_residual_tol`.
-const FLOOR_FACTOR: Real = 1e3;
+/// The residual floor accepted when Newton stalls, as a multiple of `rel_residual_tol` (this
+/// solver's and [`super::inextensible`]'s).
+pub(super) const FLOOR_FACTOR: Real = 1e3;
 /// Default Newton step tolerance of a static solve ([`NewtonParams::step_tol`]): the max-norm of
 /// the update, nondimensional (positions in units of L, angles in radians).
 pub const DEFAULT_STEP_TOL: Real = 1e-11;
@@ -83,6 +84,25 @@ impl Equilibrium {
     pub fn is_stable(&self) -> bool {
         self.negative == 0
     }
+}
+
+/// A backtracking trial's assembly in `ws`: the full step (`full`; accepted in almost every
+/// iteration, it is the next iteration's assembly) with its energy, gradient and Hessian,
+/// a shorter one with the gradient only (energy NaN). Shared by both Newton solvers.
+pub(super) fn assemble_trial(rod: &Rod, trial: &RodState, full: bool, ws: &mut Workspace) -> Real {
+    if full {
+        energy::energy_gradient_hessian(rod, trial, &mut ws.grad, &mut ws.hess)
+    } else {
+        energy::gradient(rod, trial, &mut ws.grad);
+        Real::NAN
+    }
+}
+
+/// The backtracking rule of both Newton solvers: a trial with residual `r` at step fraction
+/// `alpha` is accepted when `r` is finite and below the current residual `res`, or — once
+/// `alpha` < 1/1024 and `res` is not yet at its round-off floor — whenever it is finite.
+pub(super) fn backtrack_accepts(r: Real, res: Real, alpha: Real, at_floor: bool) -> bool {
+    r.is_finite() && (r < res || (alpha < 1.0 / 1024.0 && !at_floor))
 }
 
 /// The max norm ‖v‖∞.
@@ -171,14 +191,9 @@ pub fn solve(
                     // iteration, it is the next iteration's assembly); shorter ones need only
                     // the gradient.
                     let full = alpha == 1.0;
-                    let e_trial = if full {
-                        energy::energy_gradient_hessian(rod, &trial, &mut ws.grad, &mut ws.hess)
-                    } else {
-                        energy::gradient(rod, &trial, &mut ws.grad);
-                        Real::NAN
-                    };
+                    let e_trial = assemble_trial(rod, &trial, full, ws);
                     let r = inf_norm(&ws.grad[free.clone()]);
-                    if r.is_finite() && (r < res || (alpha < 1.0 / 1024.0 && !at_floor)) {
+                    if backtrack_accepts(r, res, alpha, at_floor) {
                         accepted = true;
                         if full {
                             assembled = true;
