@@ -257,8 +257,8 @@ fn a_snap_through_the_clamp_gives_no_return_point_and_says_why() {
 /// turns of twist (elastic energy 10.56 against the helix's 68.17). Its linking number differs
 /// from the helix's by exactly −2 ([`helixreach::bifurcation::contact::linking_number`]; or,
 /// depending on the relaxation path, the per-step contact check sees the passage itself); the
-/// row has no s_return and says so (session 3 said only "relaxed to a state only 6e-5 from the
-/// helix").
+/// row has no s_return and says so (an earlier version said only "relaxed to a state only 6e-5
+/// from the helix").
 #[test]
 fn a_passage_the_contact_check_misses_is_caught_by_the_linking_number() {
     let d = Direction::new(

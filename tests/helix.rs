@@ -846,7 +846,7 @@ fn cli_points_csv_roundtrips_with_17_digits_and_names_bad_lines() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Direction sets (the lead's module): reading errors name the line.
+// Direction sets: reading errors name the line.
 
 #[test]
 fn direction_csv_errors_name_the_line() {

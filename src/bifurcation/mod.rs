@@ -173,7 +173,7 @@ impl BifurcationParams {
 }
 
 /// DER resolution of the type a planner assumes ([`planning_type`]): the seed's 42 labelled
-/// types all agree from n = 24 on (tests/bifurcation.rs, README), at a fraction of the cost
+/// types all agree from n = 24 on (tests/bifurcation.rs, `docs/RESULTS.md`), at a fraction of the cost
 /// of n = 100.
 pub const PLANNING_N_EDGES: usize = 40;
 

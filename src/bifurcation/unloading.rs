@@ -41,8 +41,7 @@
 //! slow passage through the fold: the dynamic return lies below the static one by a gap
 //! ∝ v^(2/3) that vanishes as v → 0. An *undamped* run rings after the snap: the vibration
 //! throws it off the far branch before the fold (above the static return), and its helix error
-//! stays above the detection threshold until the ringing has decayed, far below it (README,
-//! issue 12).
+//! stays above the detection threshold until the ringing has decayed, far below it.
 
 use super::contact::{linking_number, ContactMonitor, SelfContact};
 use super::reduction::CriticalMode;

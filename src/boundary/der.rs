@@ -14,7 +14,7 @@
 //! critical mode near s*). Steps grow by at most ×1.3 and are halved when Newton fails. A cold
 //! start from the sampled helix far along the ray is never used by the search: near s* it can
 //! converge to another equilibrium (one with two negative eigenvalues, or a stable buckled
-//! shape), which made s* 3–126 % wrong near the τ axis (issue 13). The twist angles start at
+//! shape), which made s* 3–126 % wrong near the τ axis. The twist angles start at
 //! the uniform twist `θ_j = (ω/c)·s_j` relative to space-parallel reference frames (zero
 //! reference twist), and θ_{n−1} is the angle to the imposed end director chosen within π of
 //! ω/c: the winding number of the end rotation is the one reached continuously from the
@@ -63,10 +63,10 @@
 //!
 //! With the augmented Lagrangian these shortcuts took 12.1 equilibria and 57 Newton
 //! iterations per direction instead of 18.3 and 83 on the 2,000-direction half-sphere at
-//! n = 100 (0.63× the CPU time, back to back under load), and moved s* by at most 2.5·10⁻⁶
+//! n = 100 (0.63× the CPU time), and moved s* by at most 2.5·10⁻⁶
 //! relative (median 7·10⁻⁹): the predicate's noise floor, the same equilibria reached
 //! differently. The KKT Newton needs ≈ 10.5 equilibria and 22 Newton iterations per direction
-//! (README, DER table). [`DerRay::critical_s_from`] (the bifurcation analysis) takes
+//! (`docs/RESULTS.md`, DER statics). [`DerRay::critical_s_from`] (the bifurcation analysis) takes
 //! no shortcut unless [`DerRay::allow_shortcuts`] is called. Near the κ = 0 plane the rod of
 //! 10⁶ buckles before the penalty rod does (the compression is taken up by the edges rather than
 //! the helix), and a far cold start can land on a neighbouring equilibrium of the nearly
@@ -140,10 +140,10 @@
 //! |s*_n/s*_∞ − 1|/φ² is 0.26 outside the large-s* band and up to 0.85 on it). The bound is then *checked*: [`critical_s`]
 //! computes the continuum s* anyway (the seed), and a DER s* farther from it than `est_error`
 //! (plus the continuum's own tolerance) is returned as an error naming both values, never as
-//! a number — so every s* written is within its `est_error` of the continuum. The README's DER
-//! table counts these errors. [`DerRay::critical_s`] (the ray alone) reports the bracket only
+//! a number — so every s* written is within its `est_error` of the continuum. `docs/RESULTS.md`
+//! counts these errors. [`DerRay::critical_s`] (the ray alone) reports the bracket only
 //! and is not checked. The measured discretization error (raw and Richardson-extrapolated,
-//! `(4·s*_{2n} − s*_n)/3`) over the half-sphere is the README's DER table
+//! `(4·s*_{2n} − s*_n)/3`) over the half-sphere is in `docs/RESULTS.md`
 //! (`examples/der_convergence.rs`).
 //!
 //! ```

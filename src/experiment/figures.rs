@@ -2,7 +2,7 @@
 //! `speed_error.csv`; with a planned trajectory also the render strip of robot, rod and scene
 //! ([`crate::plot::render::render_trajectory`]: `render_strip.png`/`.svg`, `render_frames.csv`).
 //!
-//! The bifurcation map (`bifurcation_map.png`/`.svg`, issue 12) needs no earlier stage: the
+//! The bifurcation map (`bifurcation_map.png`/`.svg`) needs no earlier stage: the
 //! type of every direction of a quarter-sphere lattice is computed here
 //! ([`crate::bifurcation::survey`]: [`BIFURCATION_QUICK`] in quick mode, [`BIFURCATION_FULL`]
 //! otherwise), written to `bifurcation.csv` (the columns of `helixreach bifurcation`), and drawn
@@ -121,7 +121,7 @@ pub fn figures(report: &StudyReport, out: &Path, log: &Log) -> Result<Figures> {
         figure("trajectory", &|p| {
             plot::trajectory::render(&t.rows, &opts, p)
         })?;
-        // The robot, rod and scene along the same trajectory (issue 14): the strip of
+        // The robot, rod and scene along the same trajectory: the strip of
         // snapshots at s = 0, ¼, ½, ¾ of s*, s*, the end and every reconfiguration.
         let rig = Rig::load(&report.settings.rig)?;
         let strip = plot::render::render_trajectory(

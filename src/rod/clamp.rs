@@ -17,7 +17,7 @@
 //!   `x_n = p_end`, `x_{n−1} = p_end − ē t_end`). The straight clamped edge replaces a curved
 //!   piece of rod of length `ē`, which shifts the boundary by `O(1/n)`.
 //!
-//! The measured orders are in `examples/der_convergence.rs` and the README.
+//! The measured orders are in `examples/der_convergence.rs` and `docs/RESULTS.md`.
 //!
 //! # Time-varying clamps
 //! [`impose`] sets the two nodes, re-transports the reference frames ([`RodState::update_reference`])

@@ -16,7 +16,7 @@
 //! Node `i` at `q[4i..4i+3]`, twist θ_j of edge `j` at `q[4j+3]`; every energy stencil spans at
 //! most 11 consecutive DOFs, so the Hessian has half-bandwidth [`banded::HALF_BANDWIDTH`] = 10.
 //!
-//! # For the dynamics (issue 4)
+//! # For the dynamics
 //! Implicit Euler needs, per Newton iteration, `energy::energy_gradient_hessian` on the full DOF
 //! vector (add `M/Δt²` to the diagonal of the Hessian and the inertial term to the gradient),
 //! then [`BandedLdlt::factor`] on [`Rod::free_range_clamped`] and a solve. Impose the moving

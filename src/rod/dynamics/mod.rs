@@ -1,4 +1,4 @@
-//! Discrete Elastic Rods dynamics (issue 4; [architecture §3](crate::architecture); the seed paper §II.B–C, §III.D):
+//! Discrete Elastic Rods dynamics ([architecture §3](crate::architecture); the seed paper §II.B–C, §III.D):
 //! the rod clamped at one end, the other end driven along a ray `(κ, τ, ω) = s·S̄` at finite
 //! speed, integrated in time by implicit Euler, the instability seen as a jump of the helix
 //! error e.
