@@ -6,7 +6,7 @@
 //! | DER check | [`der_check`] | [`DerCheck`] | `der_check.csv` |
 //! | reachability | [`reach_survey`] | [`ReachSurvey`] | `reach_{fixed,motor}.csv`, `reach_omega0_{fixed,motor}.csv` (sweep checkpoints), `reach.csv`, `reach_omega0.csv` |
 //! | dynamics | [`dynamics_rays`] | [`DynamicsRays`] | `series_N.csv` |
-//! | trajectory | [`trajectory`] | [`PlannedTrajectory`] | `trajectory.csv`, `trajectory.json`, `joint_limits.csv` |
+//! | trajectory | [`trajectory`] | [`PlannedTrajectory`] | `trajectory.csv`, `trajectory.json` (each with its `.meta.json` sidecar), `joint_limits.csv` |
 //! | figures (feature `plots`) | `figures` | `Figures` | PNG + SVG, `speed_error.csv` |
 //!
 //! Each stage returns `Result<Outcome>`: an error is a failed stage, never a skipped one.

@@ -82,6 +82,9 @@ pub fn trajectory(st: &Settings, out: &Path) -> Result<PlannedTrajectory> {
     let traj = planner.trajectory(&plan)?;
     write(out, "trajectory.csv", &traj.to_csv()?)?;
     write(out, "trajectory.json", &traj.to_json()?)?;
+    let meta = crate::records::trajectory::trajectory_meta_json(&traj)?;
+    write(out, "trajectory.csv.meta.json", &meta)?;
+    write(out, "trajectory.json.meta.json", &meta)?;
     let mut limits: Vec<JointLimit> = planner
         .model()
         .joints()

@@ -165,9 +165,7 @@ use crate::planning::ladder::{BlockCause, CauseCounts, Ladder};
 use crate::planning::pose_path::{pose_path, PoseMap, Ray, Spacing, Waypoint};
 use crate::planning::rig::{tool_from_director, Rig, RollMode};
 use crate::planning::self_motion::{self, Held, WalkSettings};
-use crate::planning::trajectory::{
-    time_parametrize, Phase, TimingLimits, Trajectory, TrajectoryPoint,
-};
+use crate::planning::trajectory::{Phase, Trajectory};
 use crate::robot::collision::{BodyRef, Contact, RodGeometry};
 use crate::robot::{
     CollisionModel, CollisionWorkspace, Frame, IkParams, IkSolver, IkTarget, RobotModel, MAX_DOF,
@@ -1387,58 +1385,11 @@ impl Planner {
         Ok(plan)
     }
 
-    /// The time-parametrized trajectory of a plan with a path (see
-    /// [`crate::planning::trajectory`]): the seed's protocol — load along the path (with its
-    /// `reconfigure` pieces) to the farthest s reached, hold for the rig's `hold_time`, and
-    /// unload back to the straight rod along the same joint path reversed.
+    /// The time-parametrized trajectory of a plan with a path:
+    /// [`crate::planning::trajectory::of_plan`] (the seed's protocol — load along the path to
+    /// the farthest s reached, hold, unload along the same joint path reversed).
     pub fn trajectory(&self, plan: &RayPlan) -> Result<Trajectory> {
-        let path = plan
-            .path
-            .as_ref()
-            .ok_or_else(|| Error::invalid("plan", "no path", "plan with want_path = true"))?;
-        let point = |p: &PlannedPoint, phase: Phase| TrajectoryPoint {
-            t: 0.0,
-            q: p.q.clone(),
-            motor: p.motor,
-            s: p.waypoint.s,
-            kto: p.waypoint.kto,
-            pose: self.tool_pose(&p.q),
-            phase,
-        };
-        let mut points: Vec<TrajectoryPoint> = path.iter().map(|p| point(p, p.phase)).collect();
-        if let Some(last) = path.last() {
-            points.push(point(last, Phase::Hold));
-            // Unloading: point k is reached by running the loading step k → k+1 backwards,
-            // a reconfiguration when that step was one.
-            for k in (0..path.len().saturating_sub(1)).rev() {
-                let phase = if path[k + 1].phase == Phase::Reconfigure {
-                    Phase::Reconfigure
-                } else {
-                    Phase::Unload
-                };
-                points.push(point(&path[k], phase));
-            }
-        }
-        let scale = self.rig.planner.velocity_scale;
-        let limits = TimingLimits {
-            joint_velocity: self
-                .model
-                .joints()
-                .iter()
-                .map(|j| j.velocity * scale)
-                .collect(),
-            motor_velocity: self.rig.motor.max_velocity * scale,
-            end_speed: self.rig.planner.end_speed,
-            rod_length: self.rig.rod.length,
-            hold_time: self.rig.planner.hold_time,
-        };
-        time_parametrize(&mut points, &limits)?;
-        Ok(Trajectory {
-            joint_names: self.model.joints().iter().map(|j| j.name.clone()).collect(),
-            motor_name: "rod_motor".into(),
-            frame_id: self.model.root_link().to_string(),
-            points,
-        })
+        crate::planning::trajectory::of_plan(self, plan)
     }
 }
 

@@ -31,6 +31,8 @@
 
 use crate::error::{Error, Result};
 use crate::math::{rotation_angle, Iso3, Real};
+use crate::planning::ladder::BlockCause;
+use crate::planning::planner::{PlannedPoint, Planner, RayPlan, ReachClass};
 
 /// The phase of a trajectory sample (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -90,6 +92,43 @@ pub struct TrajectoryPoint {
     pub phase: Phase,
 }
 
+/// What a trajectory was planned for and how far it goes: written with every trajectory output
+/// (the CSV's and the JSON's `F.meta.json` sidecar), so a partial run never looks like a complete
+/// experiment.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RayOutcome {
+    /// The ray's direction (κ̂, τ̂, ω̂).
+    pub direction: [Real; 3],
+    /// Helix azimuth α (rad).
+    pub azimuth: Real,
+    /// Boundary s* of the ray (`null` in JSON when the rod is stable along the whole ray).
+    pub s_star: Real,
+    /// The s the experiment must reach: s*·(1 + margin).
+    pub s_target: Real,
+    /// The farthest s the trajectory reaches (= `s_target` when `class` is `testable`).
+    pub s_reached: Real,
+    /// `testable` (reaches `s_target`), `partial` (stops before it), `blocked` (cannot leave
+    /// the straight rod).
+    pub class: ReachClass,
+    /// Why the path stops before `s_target` (`null` when testable).
+    pub cause: Option<BlockCause>,
+}
+
+impl RayOutcome {
+    /// The outcome of a plan.
+    pub fn of(plan: &RayPlan) -> RayOutcome {
+        RayOutcome {
+            direction: [plan.dir.kappa, plan.dir.tau, plan.dir.omega],
+            azimuth: plan.azimuth,
+            s_star: plan.s_star,
+            s_target: plan.s_end,
+            s_reached: plan.s_reached,
+            class: plan.class,
+            cause: plan.cause,
+        }
+    }
+}
+
 /// A time-parametrized joint + motor trajectory.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trajectory {
@@ -101,6 +140,62 @@ pub struct Trajectory {
     pub frame_id: String,
     /// Samples, in time order.
     pub points: Vec<TrajectoryPoint>,
+    /// The ray and how far the trajectory drives it.
+    pub outcome: RayOutcome,
+}
+
+/// The time-parametrized trajectory of a plan with a path (the seed's protocol): load along the
+/// path (with its `reconfigure` pieces) to the farthest s reached, hold for the rig's
+/// `hold_time`, and unload back to the straight rod along the same joint path reversed. Timing
+/// by [`time_parametrize`] with the robot's joint speed limits scaled by the rig's
+/// `velocity_scale`. A partial plan gives the trajectory as far as it goes, its
+/// [`RayOutcome`] saying so.
+pub fn of_plan(planner: &Planner, plan: &RayPlan) -> Result<Trajectory> {
+    let path = plan
+        .path
+        .as_ref()
+        .ok_or_else(|| Error::invalid("plan", "no path", "plan with want_path = true"))?;
+    let point = |p: &PlannedPoint, phase: Phase| TrajectoryPoint {
+        t: 0.0,
+        q: p.q.clone(),
+        motor: p.motor,
+        s: p.waypoint.s,
+        kto: p.waypoint.kto,
+        pose: planner.tool_pose(&p.q),
+        phase,
+    };
+    let mut points: Vec<TrajectoryPoint> = path.iter().map(|p| point(p, p.phase)).collect();
+    if let Some(last) = path.last() {
+        points.push(point(last, Phase::Hold));
+        // Unloading: point k is reached by running the loading step k → k+1 backwards,
+        // a reconfiguration when that step was one.
+        for k in (0..path.len().saturating_sub(1)).rev() {
+            let phase = if path[k + 1].phase == Phase::Reconfigure {
+                Phase::Reconfigure
+            } else {
+                Phase::Unload
+            };
+            points.push(point(&path[k], phase));
+        }
+    }
+    let rig = planner.rig();
+    let model = planner.model();
+    let scale = rig.planner.velocity_scale;
+    let limits = TimingLimits {
+        joint_velocity: model.joints().iter().map(|j| j.velocity * scale).collect(),
+        motor_velocity: rig.motor.max_velocity * scale,
+        end_speed: rig.planner.end_speed,
+        rod_length: rig.rod.length,
+        hold_time: rig.planner.hold_time,
+    };
+    time_parametrize(&mut points, &limits)?;
+    Ok(Trajectory {
+        joint_names: model.joints().iter().map(|j| j.name.clone()).collect(),
+        motor_name: "rod_motor".into(),
+        frame_id: model.root_link().to_string(),
+        points,
+        outcome: RayOutcome::of(plan),
+    })
 }
 
 /// Limits of [`time_parametrize`].
@@ -302,6 +397,15 @@ mod tests {
             motor_name: "rod_motor".into(),
             frame_id: "base".into(),
             points: pts,
+            outcome: RayOutcome {
+                direction: [1.0, 0.0, 0.0],
+                azimuth: 0.0,
+                s_star: 1.0,
+                s_target: 1.1,
+                s_reached: 1.1,
+                class: ReachClass::Testable,
+                cause: None,
+            },
         };
         for v in traj.velocities() {
             assert!(

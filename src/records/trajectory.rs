@@ -14,8 +14,9 @@
 use super::csv_out;
 use crate::error::{Error, Result};
 use crate::math::Real;
-use crate::planning::trajectory::{Trajectory, TrajectoryPoint};
+use crate::planning::trajectory::{RayOutcome, Trajectory, TrajectoryPoint};
 use serde::Serialize;
+use std::path::{Path, PathBuf};
 
 /// The name of joint column `j` (`q0`, `q1`, …).
 pub fn joint_column(j: usize) -> String {
@@ -148,6 +149,90 @@ pub fn trajectory_csv(traj: &Trajectory) -> Result<String> {
     csv_out::to_csv_with(&header, &rows)
 }
 
+/// The sidecar of a trajectory output `F`: `F.meta.json` (see [`TrajectoryMeta`]).
+pub fn meta_path(path: &Path) -> PathBuf {
+    let mut name = path.as_os_str().to_os_string();
+    name.push(".meta.json");
+    PathBuf::from(name)
+}
+
+/// One run of consecutive points of the same phase (the phase annotation of a trajectory).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PhaseSpan {
+    /// `load`, `reconfigure`, `hold` or `unload`.
+    pub phase: &'static str,
+    /// Index of its first point (0-based).
+    pub first_point: usize,
+    /// Index of its last point.
+    pub last_point: usize,
+    /// Time of its first point (s).
+    pub t_start: Real,
+    /// Time of its last point (s).
+    pub t_end: Real,
+}
+
+/// The phases of `traj` as runs of points ([`PhaseSpan`]), in time order.
+pub fn phase_spans(traj: &Trajectory) -> Vec<PhaseSpan> {
+    let mut spans: Vec<PhaseSpan> = Vec::new();
+    for (k, p) in traj.points.iter().enumerate() {
+        match spans.last_mut() {
+            Some(s) if s.phase == p.phase.as_str() => {
+                s.last_point = k;
+                s.t_end = p.t;
+            }
+            _ => spans.push(PhaseSpan {
+                phase: p.phase.as_str(),
+                first_point: k,
+                last_point: k,
+                t_start: p.t,
+                t_end: p.t,
+            }),
+        }
+    }
+    spans
+}
+
+/// The sidecar `F.meta.json` of every trajectory output `F`: what the trajectory was planned for
+/// and how far it goes ([`RayOutcome`]: `direction`, `azimuth`, `s_star`, `s_target`,
+/// `s_reached`, `class`, `cause`), its joints and frame, its duration and point count, and the
+/// phase annotation (`phases`, [`PhaseSpan`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TrajectoryMeta<'a> {
+    /// Always `helixreach trajectory`.
+    pub format: &'static str,
+    /// The ray and how far the trajectory drives it (flattened into this object).
+    #[serde(flatten)]
+    pub outcome: &'a RayOutcome,
+    /// The robot base frame.
+    pub frame_id: &'a str,
+    /// Arm joint names (URDF), the order of the joint columns.
+    pub joint_names: &'a [String],
+    /// The rod motor's joint name.
+    pub motor_name: &'a str,
+    /// Number of points.
+    pub points: usize,
+    /// Time of the last point (s).
+    pub duration: Real,
+    /// The phases as runs of points.
+    pub phases: Vec<PhaseSpan>,
+}
+
+/// The pretty-printed sidecar text of `traj` ([`TrajectoryMeta`]).
+pub fn trajectory_meta_json(traj: &Trajectory) -> Result<String> {
+    let meta = TrajectoryMeta {
+        format: "helixreach trajectory",
+        outcome: &traj.outcome,
+        frame_id: &traj.frame_id,
+        joint_names: &traj.joint_names,
+        motor_name: &traj.motor_name,
+        points: traj.points.len(),
+        duration: traj.duration(),
+        phases: phase_spans(traj),
+    };
+    serde_json::to_string_pretty(&meta)
+        .map_err(|e| Error::invalid("trajectory meta json", "", e.to_string()))
+}
+
 /// The JSON document of a trajectory (ROS `trajectory_msgs/JointTrajectory` shape).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct JointTrajectoryDoc {
@@ -268,6 +353,15 @@ mod tests {
             motor_name: "rod_motor".into(),
             frame_id: "base".into(),
             points,
+            outcome: RayOutcome {
+                direction: [0.6, 0.0, 0.8],
+                azimuth: 0.0,
+                s_star: f64::INFINITY,
+                s_target: 7.0,
+                s_reached: 7.0,
+                class: crate::planning::planner::ReachClass::Testable,
+                cause: None,
+            },
         }
     }
 
@@ -344,6 +438,43 @@ mod tests {
                 nsecs: 250_000_000,
                 secs: 1
             }
+        );
+    }
+
+    /// The sidecar names how far the trajectory goes and its phases as runs of points.
+    #[test]
+    fn sidecar_outcome_and_phase_runs() {
+        let mut tr = traj();
+        tr.outcome.class = crate::planning::planner::ReachClass::Partial;
+        tr.outcome.cause = Some(crate::planning::ladder::BlockCause::NoIk);
+        tr.outcome.s_reached = 2.5;
+        tr.points[2].phase = Phase::Reconfigure;
+        let v: serde_json::Value =
+            serde_json::from_str(&trajectory_meta_json(&tr).unwrap()).unwrap();
+        assert_eq!(v["class"], "partial");
+        assert_eq!(v["cause"], "no_ik");
+        assert_eq!(v["s_reached"], 2.5);
+        assert_eq!(v["s_target"], 7.0);
+        assert!(v["s_star"].is_null());
+        assert_eq!(v["joint_names"][2], "c");
+        let ph = v["phases"].as_array().unwrap();
+        let runs: Vec<(&str, u64, u64)> = ph
+            .iter()
+            .map(|p| {
+                (
+                    p["phase"].as_str().unwrap(),
+                    p["first_point"].as_u64().unwrap(),
+                    p["last_point"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(
+            runs,
+            [("load", 0, 0), ("reconfigure", 1, 2), ("unload", 3, 3)]
+        );
+        assert_eq!(
+            meta_path(Path::new("a/b.csv")),
+            PathBuf::from("a/b.csv.meta.json")
         );
     }
 

@@ -1,7 +1,9 @@
 //! `helixreach`: thin command-line glue over the library. Every subcommand lives in
 //! `commands/<name>.rs` as an `Args` struct (clap) and a `run(args) -> anyhow::Result<()>`.
 //! Machine-readable output goes to files or stdout; progress and errors go to stderr.
-//! Exit code 0 on success, 2 on error; a broken pipe on stdout counts as success.
+//! Exit code 0 on success, 2 on error; a broken pipe on stdout counts as success. A command
+//! whose answer is "no" exits with its own code (`commands::Verdict`): `plan` 3 when the ray
+//! cannot be driven to its target, `check` 64 + a bit per kind of finding.
 
 mod commands;
 
@@ -97,6 +99,10 @@ fn main() -> ExitCode {
                     .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
             }) {
                 return ExitCode::SUCCESS;
+            }
+            if let Some(v) = e.downcast_ref::<commands::Verdict>() {
+                eprintln!("{v}");
+                return ExitCode::from(v.code);
             }
             eprintln!("error: {}", message(&e));
             ExitCode::from(2)

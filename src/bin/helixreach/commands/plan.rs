@@ -2,12 +2,19 @@
 //! trajectory (CSV, and optionally a JSON shaped like ROS `trajectory_msgs/JointTrajectory`):
 //! load to s*·(1 + margin), hold, unload along the same path (a `phase` column marks them and the
 //! self-motion reconfigurations).
+//!
+//! A ray the robot cannot drive to its target s*·(1 + margin) (class `partial` or `blocked`) is
+//! a "no": nothing is written and the exit code is 3 ([`super::EXIT_NOT_TESTABLE`]). With
+//! `--allow-partial` the trajectory is written as far as it goes. Every output `F` has the
+//! sidecar `F.meta.json` naming `class`, `cause`, `s_reached`, `s_target`, `s_star`, the
+//! direction and the phases (`helixreach::records::trajectory::TrajectoryMeta`).
 
 use super::args::RigOverrideArgs;
 use anyhow::Context;
 use helixreach::directions::Direction;
-use helixreach::planning::planner::Planner;
+use helixreach::planning::planner::{Planner, ReachClass};
 use helixreach::planning::rig::{Rig, RollMode};
+use helixreach::records::trajectory::{meta_path, trajectory_meta_json};
 use helixreach::sweep::reach::s_star_of;
 use std::path::PathBuf;
 
@@ -42,6 +49,11 @@ pub struct Args {
     /// Also write the trajectory as JSON (ROS JointTrajectory shape).
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Write the trajectory of a ray that cannot be driven to its target, as far as it goes
+    /// (its sidecar says `partial` or `blocked`, with the cause and `s_reached`); without it
+    /// such a ray writes nothing and exits 3.
+    #[arg(long)]
+    pub allow_partial: bool,
 }
 
 fn parse_direction(s: &str) -> anyhow::Result<Direction> {
@@ -95,19 +107,31 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let plan = planner.plan_best_typed(&dir, s_star, kind, &azimuths, roll, true)?;
     let dt = t0.elapsed().as_secs_f64();
-    let traj = planner.trajectory(&plan)?;
     let assumed = plan.assumed_type.map_or("any", |t| t.name());
-    helixreach::io::write_atomic(&args.out, traj.to_csv()?.as_bytes())?;
+    if plan.class != ReachClass::Testable && !args.allow_partial {
+        return Err(super::Verdict {
+            code: super::EXIT_NOT_TESTABLE,
+            message: format!(
+                "{}: the robot drives the ray to s = {} of its target {} (s* = {}, cause {}); \
+                 nothing written (--allow-partial writes the trajectory as far as it goes)",
+                plan.class.as_str(),
+                plan.s_reached,
+                plan.s_end,
+                plan.s_star,
+                plan.cause.map_or("-", |c| c.as_str()),
+            ),
+        }
+        .into());
+    }
+    let traj = planner.trajectory(&plan)?;
+    let meta = trajectory_meta_json(&traj)?;
+    let mut files = vec![(args.out.clone(), traj.to_csv()?)];
     if let Some(j) = &args.json {
-        // The ROS-shaped trajectory plus what the ray was planned for.
-        let mut doc: serde_json::Value = serde_json::from_str(&traj.to_json()?)?;
-        doc["ray"] = serde_json::json!({
-            "dir": [dir.kappa, dir.tau, dir.omega],
-            "s_star": plan.s_star,
-            "s_end": plan.s_end,
-            "bifurcation": assumed,
-        });
-        helixreach::io::write_atomic(j, serde_json::to_string_pretty(&doc)?.as_bytes())?;
+        files.push((j.clone(), traj.to_json()?));
+    }
+    for (path, text) in files {
+        helixreach::io::write_atomic(&path, text.as_bytes())?;
+        helixreach::io::write_atomic(&meta_path(&path), meta.as_bytes())?;
     }
     eprintln!(
         "{}: s* = {}, s_reached = {} of {} (bifurcation assumed: {assumed}) ({} of {} waypoints), \
