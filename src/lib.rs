@@ -60,6 +60,7 @@ pub mod progress;
 pub mod records;
 pub mod robot;
 pub mod rod;
+pub mod sources;
 pub mod sweep;
 
 pub use error::{Error, Result};

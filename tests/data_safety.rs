@@ -925,3 +925,175 @@ fn checkpoints_stay_on_time_when_items_turn_costly() {
     );
     assert_eq!(data_rows(&out).len(), n as usize);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The settings digest covers every input file that changes a result
+// ---------------------------------------------------------------------------------------------
+
+/// A rig directory holding a copy of the Sawyer's URDF and pair list and the seed rig pointing
+/// at the copy: `(dir, rig path)`.
+fn rig_with_copied_robot() -> (tempfile::TempDir, PathBuf) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+    let dir = tempfile::tempdir().unwrap();
+    for f in ["sawyer.urdf", "sawyer.collision.toml"] {
+        std::fs::copy(root.join(f), dir.path().join(f)).unwrap();
+    }
+    let rig = std::fs::read_to_string(root.join("sawyer-seed.toml"))
+        .unwrap()
+        .replace("urdf = \"sawyer\"", "urdf = \"sawyer.urdf\"");
+    assert!(rig.contains("urdf = \"sawyer.urdf\""));
+    let path = dir.path().join("rig.toml");
+    std::fs::write(&path, rig).unwrap();
+    (dir, path)
+}
+
+#[test]
+fn resume_refuses_rows_of_a_changed_urdf_or_pair_list() {
+    let (dir, rig) = rig_with_copied_robot();
+    let out = dir.path().join("r.csv");
+    let reach = |extra: &[&str]| {
+        let mut a = vec![
+            "reach",
+            "--rig",
+            s(&rig),
+            "--fibonacci",
+            "2",
+            "--quarter",
+            "--quiet",
+            "--out",
+            s(&out),
+        ];
+        a.extend_from_slice(extra);
+        cli(&a)
+    };
+    let o = reach(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.lines().next().unwrap().contains("sawyer.urdf="),
+        "{text}"
+    );
+    // Control: unchanged files resume.
+    let o = reach(&["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    // A narrowed joint limit in the URDF: the rows are another robot's.
+    let urdf = dir.path().join("sawyer.urdf");
+    let original = std::fs::read_to_string(&urdf).unwrap();
+    let narrowed = original.replacen("lower=\"-3.0503\"", "lower=\"-1.0\"", 1);
+    assert_ne!(narrowed, original);
+    std::fs::write(&urdf, &narrowed).unwrap();
+    let o = reach(&["--resume"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("robot_files"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+    std::fs::write(&urdf, &original).unwrap();
+
+    // The never-colliding pair list edited, then removed.
+    let pairs = dir.path().join("sawyer.collision.toml");
+    let pairs_text = std::fs::read_to_string(&pairs).unwrap();
+    std::fs::write(&pairs, format!("{pairs_text}\n# edited\n")).unwrap();
+    let o = reach(&["--resume"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("sawyer.collision.toml"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+    // Without its pair list the Sawyer's straight-rod start self-collides: the error names the
+    // missing file instead of only "self_collision".
+    std::fs::remove_file(&pairs).unwrap();
+    let o = reach(&["--resume"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("sawyer.collision.toml does not exist") && e.contains("--write-disabled"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+}
+
+// ---------------------------------------------------------------------------------------------
+// A class never overstates the plan
+// ---------------------------------------------------------------------------------------------
+
+/// The seed rig with `planner.max_waypoints = 10`: the adaptive pose path of every ray is cut
+/// long before s*·(1 + margin).
+fn rig_with_few_waypoints() -> helixreach::planning::rig::Rig {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+    let text = std::fs::read_to_string(root.join("sawyer-seed.toml")).unwrap();
+    assert!(text.contains("\nmax_waypoints = 20000\n"));
+    let text = text.replace("\nmax_waypoints = 20000\n", "\nmax_waypoints = 10\n");
+    helixreach::planning::rig::Rig::from_toml_str(&text, "few-waypoints.toml", &root).unwrap()
+}
+
+/// The class invariant: `testable` means the plan reached s*·(1 + margin) (its `s_end`).
+/// With `max_waypoints = 10` the pose path ends early and no ray may be called testable.
+#[test]
+fn a_ray_cut_by_the_waypoint_limit_is_never_testable() {
+    use helixreach::planning::ladder::BlockCause;
+    use helixreach::planning::planner::{Planner, ReachClass};
+    let planner = Planner::new(rig_with_few_waypoints()).unwrap();
+    let margin = planner.rig().planner.margin;
+    let mut cut = 0;
+    for d in helixreach::directions::fibonacci(6, true).unwrap() {
+        let s_star = helixreach::boundary::continuum::critical_s(&d, 1e-10)
+            .unwrap()
+            .s_star;
+        let plan = planner
+            .plan_best_typed(&d, s_star, None, &[0.0], planner.rig().roll, false)
+            .unwrap();
+        let s_end = s_star * (1.0 + margin);
+        assert!(
+            plan.class != ReachClass::Testable || plan.s_reached >= s_end * (1.0 - 1e-12),
+            "{d:?}: testable with s_reached {} < s*·(1 + margin) = {s_end}",
+            plan.s_reached
+        );
+        if plan.cause == Some(BlockCause::WaypointLimit) {
+            assert_eq!(plan.class, ReachClass::Partial, "{d:?}");
+            assert!(plan.s_reached < s_end, "{d:?}");
+            cut += 1;
+        }
+    }
+    assert!(cut > 0, "no ray reported the waypoint limit");
+}
+
+/// The same through the binary (the reproduction): every row's class agrees with its
+/// numbers.
+#[test]
+fn reach_rows_cut_by_the_waypoint_limit_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+    let text = std::fs::read_to_string(root.join("sawyer-seed.toml"))
+        .unwrap()
+        .replace("\nmax_waypoints = 20000\n", "\nmax_waypoints = 10\n");
+    let rig = dir.path().join("rig.toml");
+    std::fs::write(&rig, text).unwrap();
+    let out = dir.path().join("r.csv");
+    let o = cli(&[
+        "reach",
+        "--rig",
+        s(&rig),
+        "--fibonacci",
+        "6",
+        "--quarter",
+        "--quiet",
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = data_rows(&out);
+    assert_eq!(rows.len(), 6);
+    let mut cut = 0;
+    for r in &rows {
+        let f: Vec<&str> = r.split(',').collect();
+        let (s_star, s_reached, class, cause) = (f[3], f[4], f[5], f[6]);
+        let (s_star, s_reached): (f64, f64) = (s_star.parse().unwrap(), s_reached.parse().unwrap());
+        // The seed rig's margin is 0.1.
+        let reached_end = s_reached >= s_star * 1.1 * (1.0 - 1e-12);
+        assert_eq!(class == "testable", reached_end, "{r}");
+        cut += usize::from(cause == "waypoint_limit");
+    }
+    assert!(cut > 0, "{rows:?}");
+}

@@ -81,6 +81,8 @@ pub struct Sweep<'a> {
     pub azimuths: Vec<Real>,
     /// Run the end-pose check ([`crate::layout::precheck`]) before planning (roll `fixed`).
     pub end_pose_check: bool,
+    /// Every file the robot was loaded from ([`crate::robot::RobotModel::sources`]).
+    pub robot_sources: Vec<crate::sources::SourceFile>,
     bound: ReachBound,
     slots: Vec<OnceLock<Result<Slot, String>>>,
 }
@@ -128,6 +130,7 @@ impl<'a> Sweep<'a> {
             roll,
             azimuths,
             end_pose_check: true,
+            robot_sources: model.sources().to_vec(),
             bound,
             slots: candidates.iter().map(|_| OnceLock::new()).collect(),
         })

@@ -238,8 +238,9 @@ pub fn read_references(path: &Path, dirs: &[Direction]) -> Result<Vec<Reference>
 }
 
 /// The settings recorded in `rays.csv` (compared by the sweep driver on resume): digests of the
-/// rig (without name, description and location), the directions and the candidate poses, the
-/// roll mode, the azimuths and where s* comes from.
+/// rig (without name, description and location), of every file the robot was loaded from
+/// (`robot_files`), of the directions and the candidate poses, the roll mode, the azimuths and
+/// where s* comes from.
 fn settings(
     so: SweepOptions,
     rig: &Rig,
@@ -365,6 +366,10 @@ pub fn run(
     so.shard = control.shard;
     so.progress = control.progress;
     let so = settings(so, &rig, dirs, &cands, roll, &azimuths, table)
+        .setting(
+            "robot_files",
+            crate::sources::sources_setting(&sweep.robot_sources),
+        )
         .setting("end_pose_check", opts.end_pose_check.to_string());
     let summary = sweep.run(&so)?;
     eprintln!(

@@ -59,17 +59,21 @@ pub enum BlockCause {
     RodCollision,
     /// Valid configurations exist but none is within a joint step of the previous rung.
     Discontinuity,
+    /// The pose path hit the rig's `planner.max_waypoints` before s*·(1 + margin): the ray was
+    /// planned only up to its last waypoint.
+    WaypointLimit,
 }
 
 impl BlockCause {
     /// All causes, in pipeline order.
-    pub const ALL: [BlockCause; 6] = [
+    pub const ALL: [BlockCause; 7] = [
         BlockCause::NoIk,
         BlockCause::JointLimit,
         BlockCause::SelfCollision,
         BlockCause::SceneCollision,
         BlockCause::RodCollision,
         BlockCause::Discontinuity,
+        BlockCause::WaypointLimit,
     ];
 
     /// The name used in CSV output (`no_ik`, `joint_limit`, …).
@@ -81,6 +85,7 @@ impl BlockCause {
             BlockCause::SceneCollision => "scene_collision",
             BlockCause::RodCollision => "rod_collision",
             BlockCause::Discontinuity => "discontinuity",
+            BlockCause::WaypointLimit => "waypoint_limit",
         }
     }
 
@@ -103,7 +108,7 @@ impl std::fmt::Display for BlockCause {
 /// Counts of rejections per cause; [`CauseCounts::dominant`] names the most frequent one
 /// (ties go to the earlier cause in pipeline order).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct CauseCounts(pub [u32; 6]);
+pub struct CauseCounts(pub [u32; BlockCause::ALL.len()]);
 
 impl CauseCounts {
     /// Count one rejection.

@@ -456,13 +456,29 @@ impl Planner {
         // Unreachable clamp: no valid start in the rig's roll mode.
         if let Err(causes) = planner.start(planner.rig.roll) {
             let o = planner.rig.clamp.translation.vector;
+            let dominant = causes.dominant().map_or("no_ik", |c| c.as_str());
+            // A URDF without its never-colliding pair list checks every non-adjacent link pair:
+            // say so, naming the file that was looked for.
+            let missing_pairs = planner
+                .model
+                .sources()
+                .iter()
+                .find(|s| s.digest().is_none() && s.path().ends_with(".collision.toml"))
+                .filter(|_| dominant == "self_collision")
+                .map_or(String::new(), |s| {
+                    format!(
+                        "; the robot has no never-colliding pair list ({} does not exist), so \
+                         every non-adjacent link pair is checked: write one with `helixreach \
+                         robot --robot URDF --write-disabled FILE`",
+                        s.path()
+                    )
+                });
             return Err(Error::invalid(
                 format!("{}: clamp.origin", planner.rig.source),
                 format!("[{}, {}, {}]", o.x, o.y, o.z),
                 format!(
                     "unreachable clamp: the straight rod's end pose has no valid IK solution \
-                     (dominant cause: {})",
-                    causes.dominant().map_or("no_ik", |c| c.as_str())
+                     (dominant cause: {dominant}){missing_pairs}"
                 ),
             ));
         }
@@ -1023,6 +1039,11 @@ impl Planner {
             }
         }
         plan.n_waypoints = wps.len() + inserted;
+        // A pose path cut short by `planner.max_waypoints` ends before s_end: whatever the
+        // ladder did, the ray was not planned to its end.
+        if stop_cause.is_none() && wps.last().is_some_and(|w| w.s < s_end) {
+            stop_cause = Some(BlockCause::WaypointLimit);
+        }
         last_rung.extend_from_slice(ladder.last().0);
         let skip = usize::from(!done.is_empty());
         let reached = reached_before + ladder.len() - skip;

@@ -128,6 +128,7 @@ fn cause_color(c: Option<BlockCause>) -> RGBColor {
         Some(BlockCause::SceneCollision) => style::BLUE,
         Some(BlockCause::RodCollision) => style::YELLOW,
         Some(BlockCause::Discontinuity) => style::BLACK,
+        Some(BlockCause::WaypointLimit) => style::SKY_BLUE,
     }
 }
 
@@ -140,6 +141,7 @@ fn cause_label(c: BlockCause) -> &'static str {
         BlockCause::SceneCollision => "scene collision",
         BlockCause::RodCollision => "rod collision",
         BlockCause::Discontinuity => "discontinuity",
+        BlockCause::WaypointLimit => "waypoint limit",
     }
 }
 

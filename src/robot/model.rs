@@ -179,6 +179,7 @@ pub struct RobotModel {
     pub(crate) ignored: Vec<String>,
     pub(crate) chain: Chain,
     pub(crate) urdf: urdf_rs::Robot,
+    pub(crate) sources: Vec<crate::sources::SourceFile>,
 }
 
 impl RobotModel {
@@ -189,6 +190,21 @@ impl RobotModel {
     /// Where the model came from (a path or `builtin:<name>`).
     pub fn source(&self) -> &str {
         &self.source
+    }
+    /// Every file read while loading the model, with a digest of its contents, in load order:
+    /// the URDF (`builtin:<name>` for a built-in robot), then its never-colliding pair list
+    /// (`<urdf stem>.collision.toml`, recorded as absent when there is none), then any other
+    /// file the loader read. A sweep records these in its settings
+    /// ([`crate::sources::sources_setting`]) so `--resume` and `merge` refuse rows computed from
+    /// a different robot.
+    ///
+    /// ```
+    /// let m = helixreach::robot::RobotModel::load("sawyer", None).unwrap();
+    /// let names: Vec<&str> = m.sources().iter().map(|s| s.name()).collect();
+    /// assert_eq!(names, ["builtin:sawyer", "builtin:sawyer.collision.toml"]);
+    /// ```
+    pub fn sources(&self) -> &[crate::sources::SourceFile] {
+        &self.sources
     }
     /// The root link name.
     pub fn root_link(&self) -> &str {

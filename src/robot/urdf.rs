@@ -14,6 +14,7 @@ use super::kinematics::{Chain, Frame, LinkMotion, LinkStep, MAX_DOF};
 use super::model::{CollisionGeometry, JointInfo, LinkInfo, RobotModel, Shape};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vec3};
+use crate::sources::SourceFile;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -71,7 +72,11 @@ impl RobotModel {
             path: path.to_path_buf(),
             source,
         })?;
-        Self::from_urdf_str(&text, &path.display().to_string(), tip_link)
+        let mut model = Self::from_urdf_str(&text, &path.display().to_string(), tip_link)?;
+        let pairs = super::collision::collision_toml_path(&model.source);
+        let (_, pairs) = SourceFile::read_optional(&pairs)?;
+        model.sources.push(pairs);
+        Ok(model)
     }
 
     /// Parse URDF text; `source` names it in errors.
@@ -80,7 +85,7 @@ impl RobotModel {
             path: source.into(),
             reason: format!("malformed URDF: {e}"),
         })?;
-        build(&robot, source, tip_link)
+        build(&robot, text, source, tip_link)
     }
 
     /// A built-in robot by name (`sawyer`, `panda`, `iiwa14`) or else a URDF file path.
@@ -94,11 +99,18 @@ impl RobotModel {
     /// ```
     pub fn load(name_or_path: &str, tip_link: Option<&str>) -> Result<RobotModel> {
         match builtin(name_or_path) {
-            Some(b) => Self::from_urdf_str(
-                b.urdf,
-                &format!("builtin:{}", b.name),
-                Some(tip_link.unwrap_or(b.tip)),
-            ),
+            Some(b) => {
+                let mut model = Self::from_urdf_str(
+                    b.urdf,
+                    &format!("builtin:{}", b.name),
+                    Some(tip_link.unwrap_or(b.tip)),
+                )?;
+                model.sources.push(SourceFile::from_bytes(
+                    &format!("builtin:{}.collision.toml", b.name),
+                    b.collision.as_bytes(),
+                ));
+                Ok(model)
+            }
             None if !Path::new(name_or_path).exists() => Err(Error::File {
                 path: name_or_path.into(),
                 reason: format!(
@@ -184,7 +196,12 @@ fn is_movable(t: &urdf_rs::JointType) -> bool {
 }
 
 /// Build the model from a parsed URDF.
-fn build(robot: &urdf_rs::Robot, source: &str, tip_link: Option<&str>) -> Result<RobotModel> {
+fn build(
+    robot: &urdf_rs::Robot,
+    text: &str,
+    source: &str,
+    tip_link: Option<&str>,
+) -> Result<RobotModel> {
     let link_names: HashMap<&str, usize> = robot
         .links
         .iter()
@@ -529,5 +546,6 @@ fn build(robot: &urdf_rs::Robot, source: &str, tip_link: Option<&str>) -> Result
         ignored,
         chain,
         urdf: robot.clone(),
+        sources: vec![SourceFile::from_bytes(source, text.as_bytes())],
     })
 }

@@ -151,8 +151,10 @@ pub fn reach_one(
 }
 
 /// The settings a reach sweep records (see [`crate::sweep::record`]): a digest of the rig
-/// (every field but its name, description and file location; the robot's URDF is named, not
-/// hashed), the roll mode, the azimuths, the planner margin, and where s* comes from.
+/// (every field but its name, description and file location), the name and content digest of
+/// every file the robot was loaded from ([`RobotModel::sources`](crate::robot::RobotModel::sources):
+/// URDF, never-colliding pair list, …), the roll mode, the azimuths, the planner margin, and
+/// where s* comes from (a `--boundary` table by the digest of its contents).
 pub fn settings(
     planner: &Planner,
     table: Option<&BoundaryTable>,
@@ -170,6 +172,10 @@ pub fn settings(
         .sweep("reach")
         .setting("rig", planner.rig().name.as_str())
         .setting("rig_digest", fnv1a_hex(format!("{rig:?}").as_bytes()))
+        .setting(
+            "robot_files",
+            crate::sources::sources_setting(planner.model().sources()),
+        )
         .setting("roll_mode", opts.roll.as_str())
         .setting("azimuths", azimuths.join(" "))
         .setting("margin", fmt_real(planner.rig().planner.margin))

@@ -84,6 +84,12 @@ fn candidate(links: &[LinkInfo], a: usize, b: usize) -> bool {
     !(links[a].parent == Some(b) || links[b].parent == Some(a))
 }
 
+/// Where the never-colliding pair list of the URDF file `urdf` lives:
+/// `<urdf stem>.collision.toml` beside it.
+pub fn collision_toml_path(urdf: &str) -> std::path::PathBuf {
+    std::path::Path::new(urdf).with_extension("collision.toml")
+}
+
 impl DisabledPairs {
     /// Parse a `<robot>.collision.toml`; `source` names it in errors.
     pub fn from_toml(text: &str, source: &str) -> Result<DisabledPairs> {
@@ -101,7 +107,7 @@ impl DisabledPairs {
                 return Self::from_toml(b.collision, &format!("builtin:{name}.collision.toml"));
             }
         }
-        let p = std::path::Path::new(model.source()).with_extension("collision.toml");
+        let p = collision_toml_path(model.source());
         if p.exists() {
             let text = std::fs::read_to_string(&p).map_err(|source| Error::Io {
                 path: p.clone(),

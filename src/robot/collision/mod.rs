@@ -29,7 +29,7 @@ mod narrow;
 pub mod scene;
 mod walk;
 
-pub use disabled::{DisabledPair, DisabledPairs};
+pub use disabled::{collision_toml_path, DisabledPair, DisabledPairs};
 pub use narrow::segment_distance_squared;
 pub use scene::{ObstaclePose, SceneObstacle};
 
