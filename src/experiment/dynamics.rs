@@ -56,13 +56,17 @@ pub struct DynamicsRays {
 }
 
 /// Stage 4: simulate the first `dynamics_rays` paper directions (in parallel) with the
-/// paper-sim rod → `series_N.csv` (`t,s,kappa,tau,omega,error,energy`).
+/// rig's rod ([`Settings::rod`]; `paper-sim` when unset) → `series_N.csv` (`t,s,kappa,tau,omega,error,energy`).
 pub fn dynamics_rays(st: &Settings, out: &Path, log: &Log) -> Result<DynamicsRays> {
     let dirs: Vec<(&str, Direction)> = paper_directions()
         .into_iter()
         .take(st.dynamics_rays)
         .collect();
+    let rod = st
+        .rod
+        .unwrap_or_else(crate::rod::dynamics::PhysicalRod::paper_sim);
     let params = SimParams {
+        rod,
         n_edges: st.dynamics_n_edges,
         dt: st.dynamics_dt,
         speed: st.dynamics_speed,
@@ -134,7 +138,11 @@ pub fn dynamics_rays(st: &Settings, out: &Path, log: &Log) -> Result<DynamicsRay
         });
     }
     Ok(DynamicsRays {
-        preset: "paper-sim".into(),
+        preset: if st.rod.is_some() {
+            "the rig's rod".into()
+        } else {
+            "paper-sim".into()
+        },
         n_edges: params.n_edges,
         dt_s: params.dt,
         ray_speed_per_s: params.speed,

@@ -80,8 +80,11 @@ pub struct Settings {
     pub der_n_sweep: Vec<usize>,
     /// DER statics: relative tolerance on s*.
     pub der_tol_rel: Real,
-    /// Poisson ratio of the DER statics rod.
+    /// Poisson ratio of the DER statics rod (at run time: the rig's `rod.poisson`).
     pub nu: Real,
+    /// The rod of the DER dynamics stage: the rig's `[rod]`, filled in at run time
+    /// ([`run_with_log`]); `None` before (then the `paper-sim` preset).
+    pub rod: Option<crate::rod::dynamics::PhysicalRod>,
     /// Reachability: quarter-sphere size per roll mode.
     pub reach_directions: usize,
     /// Reachability: fan size in the plane ω = 0.
@@ -123,6 +126,7 @@ impl Settings {
             der_n_sweep: vec![15, 30],
             der_tol_rel: 1e-6,
             nu: 0.33,
+            rod: None,
             reach_directions: 100,
             reach_fan_directions: 25,
             dynamics_rays: 1,
@@ -151,6 +155,7 @@ impl Settings {
             der_n_sweep: vec![25, 50, 100, 200],
             der_tol_rel: 1e-8,
             nu: 0.33,
+            rod: None,
             reach_directions: 2000,
             reach_fan_directions: 91,
             dynamics_rays: 2,
@@ -364,8 +369,13 @@ pub fn run(settings: &Settings, opts: &RunOptions) -> Result<StudyReport> {
 /// [`run`] with a given log clock (the demo starts it before parsing).
 pub fn run_with_log(settings: &Settings, opts: &RunOptions, log: &Log) -> Result<StudyReport> {
     settings.validate()?;
-    // A rig that does not load fails the run before any work.
-    crate::planning::rig::Rig::load(&settings.rig)?;
+    // A rig that does not load fails the run before any work. Its rod is the rod of the
+    // simulating stages (ν of the DER statics, the whole rod of the dynamics).
+    let rig = crate::planning::rig::Rig::load(&settings.rig)?;
+    let mut settings = settings.clone();
+    settings.nu = rig.rod.nu;
+    settings.rod = Some(rig.rod);
+    let settings = &settings;
     let out = opts.out.as_path();
     std::fs::create_dir_all(out).map_err(|source| Error::Io {
         path: out.to_path_buf(),

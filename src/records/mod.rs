@@ -17,6 +17,7 @@
 
 pub mod bifurcation;
 pub mod boundary;
+pub mod centerline;
 pub mod check;
 pub mod clamp_runs;
 pub mod compare;

@@ -6,6 +6,7 @@
 //! | module | holds |
 //! |---|---|
 //! | [`presets`] | [`PhysicalRod`] (E, ν, ρ, h, L), the paper's `paper-sim` and `nitinol` rods, the gravito-bending length |
+//! | [`centerline`] | [`centerline::Centerline`]: node positions and material frames kept along a run, and their [`centerline::Placement`] on a rig |
 //! | [`stepper`] | [`Stepper`]: implicit Euler with lumped masses, Newton on the banded system, gravity, damping, moving clamp |
 //! | [`jitter`] | [`Jitter`]: a seeded, smooth random deviation of the imposed end |
 //! | [`ray`] | [`simulate_ray`]: the manipulation along a ray, the recorded series and the detected s_dyn |
@@ -30,6 +31,7 @@
 //! assert!(delay > 0.0 && delay < 0.1, "{} vs {stat}", sim.s_dyn());
 //! ```
 
+pub mod centerline;
 pub mod detect;
 pub mod jitter;
 pub mod presets;

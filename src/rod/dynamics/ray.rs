@@ -47,6 +47,7 @@
 //! static far branch and returns just below its end (`tests/bifurcation.rs`,
 //! `damped_dynamic_unloading_follows_the_static_far_branch_and_returns_at_its_end`).
 
+use super::centerline::Centerline;
 use super::detect::{detect, DetectParams, Detection};
 use super::jitter::Jitter;
 use super::presets::PhysicalRod;
@@ -103,6 +104,9 @@ pub struct SimParams {
     pub stepper: StepperParams,
     /// Load, hold and unload (see the module docs); `None`: loading only.
     pub unload: Option<Unload>,
+    /// Keep the configuration of every `k`-th recorded sample (the first one included) as a
+    /// [`Centerline`] in [`Simulation::centerlines`]; 0: none.
+    pub centerline_stride: usize,
 }
 
 /// The unloading protocol of [`SimParams::unload`].
@@ -167,6 +171,7 @@ impl Default for SimParams {
             detect: DetectParams::default(),
             stepper: StepperParams::default(),
             unload: None,
+            centerline_stride: 0,
         }
     }
 }
@@ -317,6 +322,8 @@ pub struct Simulation {
     pub s_turn: Option<Real>,
     /// With unloading: where the rod returned to the helix (see the module docs).
     pub s_return: Option<Real>,
+    /// The kept configurations ([`SimParams::centerline_stride`]), in sample order.
+    pub centerlines: Vec<Centerline>,
 }
 
 impl Simulation {
@@ -377,8 +384,22 @@ pub fn simulate_ray(
         .map(|i| placement.node_arclength(n, i, 1.0))
         .collect();
     let mut samples = Vec::new();
+    let mut centerlines = Vec::new();
+    let mut recorded_count = 0usize;
+    let stride = p.centerline_stride;
     let ekb = phys.bending_stiffness() / len;
     let mut record = |st: &Stepper, t: Real, s: Real, phase: Phase| -> Result<Sample> {
+        if stride > 0 && recorded_count % stride == 0 {
+            let state = st.state();
+            centerlines.push(Centerline {
+                sample: recorded_count,
+                t,
+                s,
+                nodes: (0..=n).map(|i| state.node(i)).collect(),
+                frames: (0..n).map(|j| state.material_frame(j)).collect(),
+            });
+        }
+        recorded_count += 1;
         let [k, ta, w] = dir.at(s);
         let hx = Helix::new(k, ta, w)?;
         for i in 0..=n {
@@ -539,6 +560,7 @@ pub fn simulate_ray(
         },
         time_unit: t0,
         stopped_on_failure,
+        centerlines,
     })
 }
 

@@ -20,6 +20,7 @@ use helixreach::directions::Direction;
 use helixreach::math::Real;
 use helixreach::records::bifurcation::BifurcationRecord;
 use helixreach::records::csv_out::{self, CsvRecord};
+use helixreach::rod::dynamics::presets::Preset;
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -34,17 +35,18 @@ pub struct Args {
     /// Number of DER edges.
     #[arg(long, default_value_t = 100)]
     pub n_edges: usize,
-    /// Poisson's ratio ν (c = 1/(1+ν)).
-    #[arg(long, default_value_t = 0.33)]
-    pub nu: Real,
+    /// The rod (`--rig`, `--preset`, field overrides; default `paper-sim` for ν): its ν, and
+    /// its diameter over length for the self-contact check when a rod is given.
+    #[command(flatten)]
+    pub rod: super::rod_args::RodArgs,
     /// Skip the static unloading (no s_return for subcritical rays; much faster).
     #[arg(long)]
     pub no_return: bool,
     /// Relative resolution of s_return.
     #[arg(long, default_value_t = helixreach::bifurcation::RETURN_TOL_REL)]
     pub return_tol: Real,
-    /// Rod diameter (units of L) for the self-contact check of the far branch (default: the
-    /// seed's nitinol rod, 3.175e-3).
+    /// Rod diameter (units of L) for the self-contact check of the far branch (default: 2h/L of
+    /// the rod given by `--rig`/`--preset`/a field flag, else the seed's nitinol rod, 3.175e-3).
     #[arg(long)]
     pub contact_diameter: Option<Real>,
     /// Continue an existing --out (or its checkpoint OUT.partial) made with the same settings:
@@ -78,25 +80,30 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     helixreach::io::check_output(&a.out)?;
     let checkpoint = checkpoint_interval(a.checkpoint_secs)?;
     let dirs = a.dirs.load()?;
+    let rod = a.rod.resolve(Preset::PaperSim)?;
+    let nu = rod.rod.nu;
+    let contact_diameter = match (a.contact_diameter, rod.explicit) {
+        (Some(d), _) => d,
+        (None, true) => 2.0 * rod.rod.radius / rod.rod.length,
+        (None, false) => BifurcationParams::default().contact_diameter,
+    };
     let p = BifurcationParams {
         der: DerBoundaryParams {
             n_edges: a.n_edges,
-            nu: a.nu,
+            nu,
             tol_rel: helixreach::bifurcation::S_STAR_TOL_REL,
             ..DerBoundaryParams::default()
         },
         statics_return: !a.no_return,
         return_tol_rel: a.return_tol,
-        contact_diameter: a
-            .contact_diameter
-            .unwrap_or(BifurcationParams::default().contact_diameter),
+        contact_diameter,
     };
     p.validate().context("bifurcation parameters")?;
     let resolution = format!("n={}", a.n_edges);
     let mut opts = SweepOptions::new(&a.out, BifurcationRecord::HEADER, 3)
         .sweep("bifurcation")
         .setting("resolution", &resolution)
-        .setting("nu", a.nu)
+        .setting("nu", nu)
         .setting("statics_return", p.statics_return)
         .setting("return_tol", a.return_tol)
         .setting("contact_diameter", p.contact_diameter);

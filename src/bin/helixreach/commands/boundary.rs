@@ -23,6 +23,7 @@ use helixreach::boundary::continuum::{self, ContinuumParams, CriticalS};
 use helixreach::boundary::der;
 use helixreach::directions::Direction;
 use helixreach::math::Real;
+use helixreach::rod::dynamics::presets::Preset;
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -51,9 +52,11 @@ pub struct Args {
     /// The direction set.
     #[command(flatten)]
     pub dirs: DirectionArgs,
-    /// Poisson's ratio ν (c = 1/(1+ν)); the boundary does not depend on it.
-    #[arg(long, default_value_t = 0.33, allow_negative_numbers = true)]
-    pub nu: Real,
+    /// The rod (`--rig`, `--preset`, field overrides; default `paper-sim`). Without gravity
+    /// the boundary of the nondimensional rod depends on its Poisson ratio ν only (and not even
+    /// on that in the continuum limit): the rig's other fields do not change s*.
+    #[command(flatten)]
+    pub rod: super::rod_args::RodArgs,
     /// Relative tolerance on s*.
     #[arg(long, default_value_t = helixreach::math::tol::S_STAR_REL, allow_negative_numbers = true)]
     pub tol: Real,
@@ -158,14 +161,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         return speed_report(&a, &dirs, report);
     }
     let out = a.out.clone().context("--out is required")?;
-    let (solve, resolution) = solver(a.method, a.nu, a.tol, a.step, a.n_edges)?;
+    let nu = a.rod.resolve(Preset::PaperSim)?.rod.nu;
+    let (solve, resolution) = solver(a.method, nu, a.tol, a.step, a.n_edges)?;
     let method = method_name(a.method);
     let mut opts = SweepOptions::new(&out, HEADER, 3)
         .sweep("boundary")
         .setting("method", method)
         .setting("resolution", &resolution)
         .setting("tol", a.tol)
-        .setting("nu", a.nu);
+        .setting("nu", nu);
     if a.method == Method::Continuum {
         opts = opts.setting("step", a.step);
     }
@@ -208,8 +212,9 @@ const CONTINUUM_TOL_SWEEP: [Real; 5] = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
 /// Time per direction (single-thread CPU time, best of [`REPEATS`] passes) and error versus a tight
 /// continuum reference ([`REFERENCE_TOL_REL`], a 4× finer scan step).
 fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()> {
+    let nu = a.rod.resolve(Preset::PaperSim)?.rod.nu;
     let reference = ContinuumParams {
-        nu: a.nu,
+        nu,
         tol_rel: REFERENCE_TOL_REL,
         step: continuum::DEFAULT_STEP / 4.0,
         ..ContinuumParams::default()
@@ -225,7 +230,7 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
     let method = method_name(a.method);
     let mut lines = Vec::new();
     for (tol, n) in resolutions {
-        let (solve, label) = solver(a.method, a.nu, tol, a.step, n)?;
+        let (solve, label) = solver(a.method, nu, tol, a.step, n)?;
         // CPU time of this thread (wall time where unavailable), best of REPEATS passes: the
         // machine may be shared, and CPU time is what a free core would take.
         let mut per = f64::INFINITY;

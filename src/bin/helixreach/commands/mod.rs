@@ -17,6 +17,7 @@ pub mod plot;
 pub mod reach;
 pub mod render;
 pub mod robot;
+pub mod rod_args;
 pub mod simulate;
 
 /// Exit code of `plan` when the ray cannot be driven to its target s (partial or blocked) and

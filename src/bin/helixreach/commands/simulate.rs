@@ -7,10 +7,16 @@
 //! speed. The series then has a last column `phase` (`load`, `hold`, `unload`) and the JSON
 //! reports `s_turn` and `s_return` (where unloading rejoined the helix; see
 //! `helixreach::rod::dynamics::ray`).
+//!
+//! The rod is the rig's with `--rig` (its clamp pose places the centerline and orients
+//! gravity), a preset with `--preset`, or `paper-sim` (module `rod_args`). `--centerline FILE`
+//! writes the node positions and material frames of every K-th sample
+//! (`helixreach::records::centerline`).
 
 use anyhow::Context;
 use helixreach::directions::Direction;
 use helixreach::math::{Real, Vec3};
+use helixreach::rod::dynamics::centerline::Placement;
 use helixreach::rod::dynamics::presets::{Preset, STANDARD_GRAVITY};
 use helixreach::rod::dynamics::{simulate_ray, SimParams, Simulation, Unload};
 use helixreach::Error;
@@ -39,10 +45,13 @@ pub struct Args {
     // A time step (the default of `SimParams::dt`), not a tolerance.
     #[arg(long, default_value_t = 2e-3, allow_negative_numbers = true)]
     dt: Real,
-    /// Gravity g = 9.81 m/s² along −z of the clamp frame (the rod points up, as in the seed rig).
+    /// Gravity g = 9.81 m/s² along −z of the rig's base frame (with `--rig`: the rig's clamp
+    /// orientation decides how it loads the rod), or of the clamp frame without `--rig` (the
+    /// rod points up, as in the seed rig).
     #[arg(long)]
     gravity: bool,
-    /// Gravity vector gx,gy,gz (m/s², clamp frame), instead of --gravity.
+    /// Gravity vector gx,gy,gz (m/s², base frame of the rig; the clamp frame without `--rig`),
+    /// instead of --gravity.
     #[arg(
         long,
         allow_negative_numbers = true,
@@ -63,16 +72,20 @@ pub struct Args {
     /// the ringing after the snap hides the return.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     damping: Real,
-    /// Rod preset: `paper-sim` (E = 1.12 GPa, ν = 0.33, ρ = 1180 kg/m³, L = 1 m,
-    /// h = 0.781 mm) or `nitinol` (L = 0.5 m, 2r = 1.5875 mm, E = 67.5 GPa, ρ = 6450 kg/m³).
-    #[arg(long, default_value = "paper-sim")]
-    preset: String,
-    /// Override Poisson's ratio ν.
-    #[arg(long, allow_negative_numbers = true)]
-    nu: Option<Real>,
-    /// Override Young's modulus E (Pa).
-    #[arg(long, allow_negative_numbers = true)]
-    youngs_modulus: Option<Real>,
+    /// The rod (`--rig`, `--preset`, field overrides; default `paper-sim`).
+    #[command(flatten)]
+    rod: super::rod_args::RodArgs,
+    /// Helix azimuth α (degrees) about the clamp tangent: the helix first curls toward
+    /// cos α·d1 + sin α·d2 of the clamp frame (with gravity, α changes the run).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    azimuth_deg: Real,
+    /// Write the centerline (node positions and material frames, base frame of the rig — the
+    /// clamp frame without `--rig`) of every K-th recorded sample to this CSV.
+    #[arg(long)]
+    centerline: Option<PathBuf>,
+    /// With --centerline: keep every K-th recorded sample (K ≥ 1).
+    #[arg(long, default_value_t = 10, requires = "centerline")]
+    centerline_stride: usize,
     /// Largest s simulated.
     #[arg(long, default_value_t = 40.0, allow_negative_numbers = true)]
     s_max: Real,
@@ -105,14 +118,29 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let [k, t, w] = <[Real; 3]>::try_from(args.direction.as_slice())
         .map_err(|_| Error::invalid("direction", format!("{:?}", args.direction), "give K,T,W"))?;
     let dir = Direction::new(k, t, w)?;
-    let mut rod = Preset::parse(&args.preset)?.rod();
-    if let Some(nu) = args.nu {
-        rod.nu = nu;
+    let resolved = args.rod.resolve(Preset::PaperSim)?;
+    let rod = resolved.rod;
+    let placement = match &resolved.rig {
+        Some(rig) => Placement::new(
+            rig.clamp.translation.vector,
+            rig.clamp_rotation(),
+            args.azimuth_deg.to_radians(),
+            rod.length,
+        )?,
+        None => Placement::new(
+            Vec3::zeros(),
+            helixreach::math::Mat3::identity(),
+            args.azimuth_deg.to_radians(),
+            rod.length,
+        )?,
+    };
+    if args.centerline_stride == 0 {
+        return Err(Error::invalid("--centerline-stride", 0, "must be >= 1").into());
     }
-    if let Some(e) = args.youngs_modulus {
-        rod.youngs_modulus = e;
+    if let Some(c) = &args.centerline {
+        helixreach::io::check_output(c)?;
     }
-    let gravity = match (&args.gravity_vector, args.gravity) {
+    let gravity_base = match (&args.gravity_vector, args.gravity) {
         (Some(g), _) => {
             let [x, y, z] = <[Real; 3]>::try_from(g.as_slice())
                 .map_err(|_| Error::invalid("gravity_vector", format!("{g:?}"), "give GX,GY,GZ"))?;
@@ -121,6 +149,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (None, true) => Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
         (None, false) => Vec3::zeros(),
     };
+    let gravity = placement.to_helix_frame(&gravity_base);
     let p = SimParams {
         rod,
         n_edges: args.n_edges,
@@ -137,6 +166,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             s_turn: args.s_turn,
             hold: args.hold,
         }),
+        centerline_stride: if args.centerline.is_some() {
+            args.centerline_stride
+        } else {
+            0
+        },
         ..SimParams::default()
     };
     p.validate()?;
@@ -149,7 +183,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
     write_series(&args.out, &sim)?;
-    let json = summary_json(&dir, &p, &sim, wall, &args.preset);
+    if let Some(c) = &args.centerline {
+        let text = helixreach::records::centerline::centerline_csv(&sim.centerlines, &placement)?;
+        helixreach::io::write_atomic(c, text.as_bytes())?;
+    }
+    let json = summary_json(&dir, &p, &sim, wall, &resolved.source, &gravity_base);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     serde_json::to_writer_pretty(&mut out, &json)?;
@@ -182,7 +220,8 @@ fn summary_json(
     p: &SimParams,
     sim: &Simulation,
     wall: Real,
-    preset: &str,
+    rod_source: &str,
+    gravity_base: &Vec3,
 ) -> serde_json::Value {
     let finite = |x: Real| if x.is_finite() { Some(x) } else { None };
     let lgb = p
@@ -200,10 +239,11 @@ fn summary_json(
         "speed_convention": "ray speed ds/dt (1/s)",
         "speed": p.speed,
         "mean_end_speed_m_per_s": sim.mean_end_speed,
-        "preset": preset,
+        "rod_source": rod_source,
         "rod": p.rod,
         "lgb_over_l_at_9.81": lgb,
-        "gravity": [p.gravity.x, p.gravity.y, p.gravity.z],
+        "gravity_base_frame": [gravity_base.x, gravity_base.y, gravity_base.z],
+        "gravity_clamp_frame": [p.gravity.x, p.gravity.y, p.gravity.z],
         "jitter": p.jitter,
         "n_edges": p.n_edges,
         "dt": p.dt,
