@@ -138,12 +138,17 @@ pub fn fibonacci(n: usize, quarter: bool) -> Result<Vec<Direction>> {
 }
 
 /// Read directions from a CSV file with a header containing `dir_kappa,dir_tau,dir_omega`.
+///
+/// Two rows that normalize to the same direction (`1,1,1` and `2,2,2`) are an error naming
+/// both lines: a sweep keys its rows by the normalized direction, so a repeated direction would
+/// be computed twice and could never be resumed or merged.
 pub fn read_csv(path: &Path) -> Result<Vec<Direction>> {
     let mut table = crate::io::CsvInput::open(path)?;
     let hint = "header must contain dir_kappa,dir_tau,dir_omega";
     let col = |name: &str| table.column(name, hint);
     let (ik, it, iw) = (col("dir_kappa")?, col("dir_tau")?, col("dir_omega")?);
     let mut out = Vec::new();
+    let mut seen: std::collections::HashMap<[u64; 3], usize> = std::collections::HashMap::new();
     for (k, rec) in table.reader.records().enumerate() {
         let line = k + 2;
         let rec = rec.map_err(|e| crate::io::bad_line(path, line, "record", e.to_string()))?;
@@ -161,6 +166,22 @@ pub fn read_csv(path: &Path) -> Result<Vec<Direction>> {
                 "more than {} directions (helixreach::limits::MAX_DIRECTIONS)",
                 crate::limits::MAX_DIRECTIONS
             )));
+        }
+        // -0 and 0 are one direction.
+        let bits = |x: Real| (x + 0.0).to_bits();
+        if let Some(first) = seen.insert([bits(d.kappa), bits(d.tau), bits(d.omega)], line) {
+            return Err(crate::io::bad_line(
+                path,
+                line,
+                "direction",
+                format!(
+                    "({}, {}, {}) normalizes to the direction of line {first}: each direction \
+                     may appear once",
+                    rec.get(ik).unwrap_or(""),
+                    rec.get(it).unwrap_or(""),
+                    rec.get(iw).unwrap_or("")
+                ),
+            ));
         }
         out.push(d);
     }

@@ -339,7 +339,32 @@ impl CsvInput {
             .comment(Some(b'#'))
             .from_path(path)
             .map_err(file_err)?;
-        let headers = reader.headers().map_err(file_err)?.clone();
+        let mut headers = reader.headers().map_err(file_err)?.clone();
+        // A UTF-8 byte-order mark (spreadsheet exports) is not part of the first column's name.
+        if let Some(first) = headers.get(0).and_then(|h| h.strip_prefix('\u{feff}')) {
+            let mut fixed = csv::StringRecord::new();
+            fixed.push_field(first.trim());
+            for h in headers.iter().skip(1) {
+                fixed.push_field(h);
+            }
+            headers = fixed;
+            reader.set_headers(headers.clone());
+        }
+        for (i, h) in headers.iter().enumerate() {
+            if let Some(j) = headers.iter().take(i).position(|g| g == h) {
+                return Err(Error::BadLine {
+                    path: path.to_path_buf(),
+                    line: 1,
+                    field: "header".into(),
+                    reason: format!(
+                        "column `{h}` appears twice (columns {} and {}): which one holds the \
+                         values is ambiguous",
+                        j + 1,
+                        i + 1
+                    ),
+                });
+            }
+        }
         Ok(CsvInput {
             path: path.to_path_buf(),
             headers,

@@ -21,6 +21,10 @@
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
 //! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
 //! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |
+//! | worker threads (`--threads`) | 1 ≤ n ≤ [`MAX_THREADS`] = 1,024 | one OS thread each |
+//! | collision sampling of a joint step (rig `planner.segment_check_step`) | ≥ [`MIN_SEGMENT_CHECK_STEP`] = 0.001 rad | samples ∝ step / segment_check_step; `check` samples a step with at most [`MAX_SEGMENT_SAMPLES`] = 10,000 configurations (a step that needs more is a jump) |
+//! | continuum scan step (`boundary --step`) | ≥ [`MIN_CONTINUUM_STEP`] = 1e-4 | ≈ 0.2 s per direction at the limit |
+//! | URDF element nesting | ≤ [`MAX_XML_DEPTH`] = 256 | a URDF nests ≈ 6 deep; the XML parser recurses per level |
 //!
 //! ```
 //! use helixreach::limits::{check_size, MAX_N_EDGES};
@@ -64,6 +68,18 @@ pub const MAX_FRAMES: usize = 10_000;
 pub const MAX_SHARDS: usize = 100_000;
 /// Longest checkpoint interval, seconds.
 pub const MAX_CHECKPOINT_SECS: f64 = 86_400.0;
+
+/// Most worker threads (`--threads`).
+pub const MAX_THREADS: usize = 1_024;
+/// Smallest rig `planner.segment_check_step` (rad): the planner and `check` sample each joint
+/// step every `segment_check_step`.
+pub const MIN_SEGMENT_CHECK_STEP: f64 = 1e-3;
+/// Most collision samples of one joint step in `check`.
+pub const MAX_SEGMENT_SAMPLES: usize = 10_000;
+/// Smallest scan step of the continuum boundary test (`boundary --step`).
+pub const MIN_CONTINUUM_STEP: f64 = 1e-4;
+/// Deepest element nesting of a URDF file.
+pub const MAX_XML_DEPTH: usize = 256;
 
 /// Most of any other per-ray or per-waypoint count of a rig TOML.
 pub const MAX_RIG_COUNT: usize = 10_000;

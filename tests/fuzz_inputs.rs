@@ -408,3 +408,296 @@ fn cli_rejects_malformed_files_without_panicking() {
         assert!(!e.contains("panicked"), "{args:?}: {e}");
     }
 }
+
+/// Run the binary in `dir`, killing it after 30 s: a hang fails the test instead of blocking CI.
+fn cli_30s(dir: &Path, args: &[&str]) -> std::process::Output {
+    use std::time::{Duration, Instant};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_helixreach"))
+        .args(args)
+        .current_dir(dir)
+        .env("RAYON_NUM_THREADS", "2")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if t0.elapsed() > Duration::from_secs(30) {
+            child.kill().unwrap();
+            let o = child.wait_with_output().unwrap();
+            panic!(
+                "`helixreach {}` still running after 30 s; stderr: {}",
+                args.join(" "),
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Absurd sizes, steps and thread counts, overflowing vectors, deep nesting and repeated rows:
+/// each is refused up front within seconds by an error naming the input (flag or file and
+/// field) and the value — no panic, no abort, no hang, no silent answer.
+#[test]
+fn absurd_inputs_fail_fast_naming_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let w = |name: &str, text: &str| std::fs::write(d.join(name), text).unwrap();
+    let rig_with = |from: &str, to: &str| {
+        let base = rig_text();
+        assert!(base.contains(from), "{from}");
+        base.replacen(from, to, 1)
+    };
+    w(
+        "seg.toml",
+        &rig_with("segment_check_step = 0.02", "segment_check_step = 1e-9"),
+    );
+    w(
+        "d1.toml",
+        &rig_with("d1 = [0.0, 1.0, 0.0]", "d1 = [0.0, 1e308, 1e308]"),
+    );
+    let choices = format!("choices = [{}]", vec!["0.0"; 3601].join(", "));
+    w("az.toml", &rig_with("choices = [0.0]", &choices));
+    w(
+        "axis.urdf",
+        &urdf(
+            r#"<limit lower="-1" upper="1" velocity="1" effort="1"/>"#,
+            "0 0 0",
+        )
+        .replace(r#"<axis xyz="0 0 1"/>"#, r#"<axis xyz="1e308 1e308 0"/>"#),
+    );
+    let deep = format!(
+        "<robot name=\"r\">{}{}</robot>",
+        "<link name=\"a\">".repeat(40_000),
+        "</link>".repeat(40_000)
+    );
+    w("deep.urdf", &deep);
+    w("twice.csv", &format!("{H}1,1,1\n0,1,0\n2,2,2\n"));
+    w(
+        "twice_b.csv",
+        "dir_kappa,dir_tau,dir_omega,s_star\n0,1,0,10\n0,2,0,11\n",
+    );
+    w("cols.csv", "dir_kappa,dir_tau,dir_omega,dir_tau\n1,1,1,2\n");
+    let cases: Vec<(Vec<&str>, Vec<&str>)> = vec![
+        // Item 5: a ray speed whose one time step passes s_max.
+        (
+            vec![
+                "simulate",
+                "--direction",
+                "1,1,1",
+                "--speed",
+                "1e300",
+                "--s-max",
+                "2",
+                "--out",
+                "s.csv",
+            ],
+            vec!["speed", "1e300", "s_max"],
+        ),
+        // Item 6: layout grids counted before they are allocated.
+        (
+            vec![
+                "layout",
+                "--fibonacci",
+                "2",
+                "--region",
+                "0:1e10,0:1,0:1",
+                "--out",
+                "l1",
+            ],
+            vec!["candidate poses", "100000"],
+        ),
+        (
+            vec![
+                "layout",
+                "--fibonacci",
+                "2",
+                "--region",
+                "0:1e300,0:1,0:1",
+                "--out",
+                "l2",
+            ],
+            vec!["candidate poses", "100000"],
+        ),
+        (
+            vec![
+                "layout",
+                "--fibonacci",
+                "2",
+                "--tilts",
+                "10,20",
+                "--headings",
+                "9223372036854775808",
+                "--out",
+                "l3",
+            ],
+            vec!["headings", "9223372036854775808"],
+        ),
+        // Item 7: a URDF nested 40,000 deep.
+        (
+            vec!["fk", "--robot", "deep.urdf", "--joints", "0"],
+            vec!["deep.urdf", "nest", "256"],
+        ),
+        // Item 8: steps and counts that would run for hours.
+        (
+            vec![
+                "reach",
+                "--rig",
+                "seg.toml",
+                "--fibonacci",
+                "2",
+                "--out",
+                "r1.csv",
+            ],
+            vec!["seg.toml", "planner.segment_check_step", "1e-9"],
+        ),
+        (
+            vec![
+                "layout",
+                "--fibonacci",
+                "2",
+                "--azimuths",
+                "1000000",
+                "--out",
+                "l4",
+            ],
+            vec!["--azimuths", "1000000", "3600"],
+        ),
+        (
+            vec![
+                "boundary",
+                "--fibonacci",
+                "2",
+                "--step",
+                "1e-300",
+                "--out",
+                "b.csv",
+            ],
+            vec!["step", "1e-300"],
+        ),
+        (
+            vec![
+                "reach",
+                "--rig",
+                "az.toml",
+                "--fibonacci",
+                "2",
+                "--out",
+                "r4.csv",
+            ],
+            vec!["az.toml", "azimuth.choices", "3600"],
+        ),
+        // Item 9: thread counts.
+        (
+            vec![
+                "reach",
+                "--fibonacci",
+                "2",
+                "--threads",
+                "1000000",
+                "--out",
+                "r2.csv",
+            ],
+            vec!["--threads", "1000000", "1024"],
+        ),
+        (
+            vec![
+                "reach",
+                "--fibonacci",
+                "2",
+                "--threads",
+                "0",
+                "--out",
+                "r2.csv",
+            ],
+            vec!["--threads", "0"],
+        ),
+        // Item 10: vectors whose norm overflows.
+        (
+            vec![
+                "reach",
+                "--rig",
+                "d1.toml",
+                "--fibonacci",
+                "2",
+                "--out",
+                "r3.csv",
+            ],
+            vec!["d1.toml", "clamp.d1", "1e308"],
+        ),
+        (
+            vec!["fk", "--robot", "axis.urdf", "--joints", "0"],
+            vec!["axis.urdf", "joint j1 axis", "1e308"],
+        ),
+        // Item 12: two rows of one direction (after normalizing), both lines named.
+        (
+            vec!["boundary", "--directions", "twice.csv", "--out", "b2.csv"],
+            vec!["twice.csv:4", "line 2"],
+        ),
+        // Item 14: a boundary table with two rows for one direction.
+        (
+            vec![
+                "reach",
+                "--fibonacci",
+                "2",
+                "--boundary",
+                "twice_b.csv",
+                "--out",
+                "r5.csv",
+            ],
+            vec!["twice_b.csv:3", "line 2"],
+        ),
+        // Low: duplicate CSV columns.
+        (
+            vec!["boundary", "--directions", "cols.csv", "--out", "b3.csv"],
+            vec!["cols.csv", "dir_tau", "twice"],
+        ),
+    ];
+    for (args, needles) in cases {
+        let o = cli_30s(d, &args);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+        assert!(!e.contains("panicked"), "{args:?}: {e}");
+        for n in needles {
+            assert!(e.contains(n), "{args:?}: `{n}` not in {e}");
+        }
+    }
+    // Nothing was written by the refused runs.
+    for f in [
+        "s.csv", "b.csv", "b2.csv", "r1.csv", "r2.csv", "r3.csv", "r5.csv",
+    ] {
+        assert!(!d.join(f).exists(), "{f}");
+    }
+}
+
+/// A byte-order mark (spreadsheet exports) is not part of the first column's name.
+#[test]
+fn a_bom_before_the_header_is_not_a_column_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("bom.csv");
+    std::fs::write(&p, format!("\u{feff}{H}0,1,0\n")).unwrap();
+    let d = read_csv(&p).unwrap();
+    assert_eq!(d.len(), 1);
+    assert_eq!((d[0].kappa, d[0].tau, d[0].omega), (0.0, 1.0, 0.0));
+}
+
+/// `check` of a joint file with a 1e308 rad step finishes within seconds (the segment between
+/// the two rows is sampled at most `helixreach::limits::MAX_SEGMENT_SAMPLES` times).
+#[test]
+fn check_of_an_absurd_joint_step_finishes() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("j.txt"),
+        "0 -1 0 1.5 0 -0.5 0\n0 -1 0 1.5 0 -0.5 1e308\n",
+    )
+    .unwrap();
+    let o = cli_30s(dir.path(), &["check", "--joints", "j.txt"]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!e.contains("panicked"), "{e}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap_or_default();
+    assert!(
+        o.status.code() != Some(0) || v["limit_violations"] == 1,
+        "{e}"
+    );
+}

@@ -139,9 +139,15 @@ impl Candidate {
 /// grid line.
 const GRID_SLACK: Real = 1e-9;
 
-fn axis_values(lo: Real, hi: Real, h: Real) -> Vec<Real> {
-    let n = ((hi - lo) / h + GRID_SLACK).floor() as usize;
-    (0..=n).map(|i| lo + i as Real * h).collect()
+/// Number of grid values on `[lo, hi]` at spacing `h`, as a real (it may be astronomically large
+/// or infinite for absurd input: counted before anything is allocated).
+fn axis_count(lo: Real, hi: Real, h: Real) -> Real {
+    ((hi - lo) / h + GRID_SLACK).floor() + 1.0
+}
+
+/// The grid values of an axis whose [`axis_count`] is `n`.
+fn axis_values(lo: Real, h: Real, n: usize) -> Vec<Real> {
+    (0..n).map(|i| lo + i as Real * h).collect()
 }
 
 /// The candidates of a grid over `region` at `spacing` (m) for every tilt of `tilts_deg`
@@ -185,27 +191,42 @@ pub fn grid(
             ));
         }
     }
+    if headings > MAX_CANDIDATES {
+        return Err(Error::invalid(
+            "headings",
+            headings,
+            format!("must be <= {MAX_CANDIDATES} (helixreach::layout::candidates::MAX_CANDIDATES)"),
+        ));
+    }
+    // Count in reals first (a 1e300-wide region or a 1e-300 spacing), allocate after the bound.
     let [bx, by, bz] = region.bounds;
-    let (xs, ys, zs) = (
-        axis_values(bx[0], bx[1], spacing),
-        axis_values(by[0], by[1], spacing),
-        axis_values(bz[0], bz[1], spacing),
-    );
-    let per_tilt: usize = tilts_deg
+    let counts = [
+        axis_count(bx[0], bx[1], spacing),
+        axis_count(by[0], by[1], spacing),
+        axis_count(bz[0], bz[1], spacing),
+    ];
+    let per_tilt: Real = tilts_deg
         .iter()
-        .map(|&t| if t == 0.0 { 1 } else { headings })
+        .map(|&t| if t == 0.0 { 1.0 } else { headings as Real })
         .sum();
-    let total = (xs.len() as u128) * (ys.len() as u128) * (zs.len() as u128) * per_tilt as u128;
-    if total > MAX_CANDIDATES as u128 {
+    let total = counts.iter().product::<Real>() * per_tilt;
+    if total.is_nan() || total > MAX_CANDIDATES as Real {
         return Err(Error::invalid(
             "spacing",
             spacing,
             format!(
-                "the grid would have {total} candidate poses (at most {MAX_CANDIDATES}): use a \
-                 larger spacing or a smaller region"
+                "the grid would have {} candidate poses (at most {MAX_CANDIDATES}): use a \
+                 larger spacing or a smaller region",
+                crate::error::fmt_num(total)
             ),
         ));
     }
+    let (xs, ys, zs) = (
+        axis_values(bx[0], spacing, counts[0] as usize),
+        axis_values(by[0], spacing, counts[1] as usize),
+        axis_values(bz[0], spacing, counts[2] as usize),
+    );
+    let total = xs.len() * ys.len() * zs.len() * per_tilt as usize;
     let mut out = Vec::with_capacity(total as usize);
     for &t in tilts_deg {
         let hs: Vec<Real> = if t == 0.0 {

@@ -676,7 +676,11 @@ pub fn check_trajectory(
             if step > JUMP {
                 rep.steps_over_jump += 1;
             }
-            let n = (step / rig.planner.segment_check_step).ceil() as usize;
+            // At most MAX_SEGMENT_SAMPLES samples: a step that needs more is far over JUMP and
+            // fails the check as a jump anyway.
+            let n = (step / rig.planner.segment_check_step)
+                .ceil()
+                .min(crate::limits::MAX_SEGMENT_SAMPLES as Real) as usize;
             for k in 1..n {
                 let t = k as Real / n as Real;
                 for j in 0..dof {

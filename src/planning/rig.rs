@@ -647,19 +647,18 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
     let origin = c.vec3("clamp.origin", raw.clamp.origin)?;
     let d1 = c.vec3("clamp.d1", raw.clamp.d1)?;
     let d3 = c.vec3("clamp.d3", raw.clamp.d3)?;
-    if d1.norm() == 0.0 {
-        return Err(c.err(
-            "clamp.d1",
-            format!("{:?}", raw.clamp.d1),
-            "must be non-zero",
-        ));
-    }
-    if d3.norm() == 0.0 {
-        return Err(c.err(
-            "clamp.d3",
-            format!("{:?}", raw.clamp.d3),
-            "must be non-zero",
-        ));
+    for (field, v, raw_v) in [
+        ("clamp.d1", d1, raw.clamp.d1),
+        ("clamp.d3", d3, raw.clamp.d3),
+    ] {
+        let n = v.norm();
+        if !(n > 0.0 && n.is_finite()) {
+            return Err(c.err(
+                field,
+                format!("{raw_v:?}"),
+                &format!("must be non-zero with a finite norm (|v| = {n})"),
+            ));
+        }
     }
     let (d1, d3) = (d1.normalize(), d3.normalize());
     if d1.dot(&d3).abs() > crate::math::tol::INPUT_ROTATION {
@@ -752,6 +751,16 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
         (Some(v), None) => {
             if v.is_empty() {
                 return Err(c.err("azimuth.choices", "[]", "must list at least one azimuth"));
+            }
+            if v.len() > crate::limits::MAX_AZIMUTHS {
+                return Err(c.err(
+                    "azimuth.choices",
+                    format!("{} values", v.len()),
+                    &format!(
+                        "must list at most {} azimuths (helixreach::limits)",
+                        crate::limits::MAX_AZIMUTHS
+                    ),
+                ));
             }
             for (i, a) in v.iter().enumerate() {
                 c.finite(&format!("azimuth.choices[{i}]"), *a)?;
@@ -877,10 +886,24 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             p.dense_samples.unwrap_or(d.dense_samples),
             0,
         )?,
-        segment_check_step: c.positive(
-            "planner.segment_check_step",
-            p.segment_check_step.unwrap_or(d.segment_check_step),
-        )?,
+        segment_check_step: {
+            let v = c.positive(
+                "planner.segment_check_step",
+                p.segment_check_step.unwrap_or(d.segment_check_step),
+            )?;
+            let min = crate::limits::MIN_SEGMENT_CHECK_STEP;
+            if v < min {
+                return Err(c.err(
+                    "planner.segment_check_step",
+                    v,
+                    &format!(
+                        "must be >= {min} rad (helixreach::limits): every joint step is sampled \
+                         every segment_check_step"
+                    ),
+                ));
+            }
+            v
+        },
         rod_capsules: c.count(
             "planner.rod_capsules",
             p.rod_capsules.unwrap_or(d.rod_capsules),

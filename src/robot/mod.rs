@@ -28,6 +28,7 @@ pub mod k_bridge;
 pub mod kinematics;
 pub mod model;
 pub mod urdf;
+pub mod xml_depth;
 
 pub use collision::{
     CollisionModel, CollisionWorkspace, Contact, DisabledPairs, RodGeometry, SceneObstacle,

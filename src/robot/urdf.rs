@@ -81,6 +81,7 @@ impl RobotModel {
 
     /// Parse URDF text; `source` names it in errors.
     pub fn from_urdf_str(text: &str, source: &str, tip_link: Option<&str>) -> Result<RobotModel> {
+        super::xml_depth::check_depth(text, source)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| Error::File {
             path: source.into(),
             reason: format!("malformed URDF: {e}"),
@@ -255,12 +256,12 @@ fn build(
         if is_movable(&j.joint_type) {
             finite3(source, format!("joint {} axis", j.name), &j.axis.xyz)?;
             let a = Vec3::from(*j.axis.xyz);
-            if a.norm() < crate::math::tol::ZERO_VECTOR {
+            if !(a.norm() >= crate::math::tol::ZERO_VECTOR && a.norm().is_finite()) {
                 return Err(bad(
                     source,
                     format!("joint {} axis", j.name),
                     format!("{:?}", *j.axis.xyz),
-                    "must be non-zero",
+                    "must be non-zero with a finite norm",
                 ));
             }
             if j.joint_type == urdf_rs::JointType::Revolute

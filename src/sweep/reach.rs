@@ -51,6 +51,7 @@ impl BoundaryTable {
             col("s_star")?,
         ];
         let mut map = HashMap::new();
+        let mut lines: HashMap<[i64; 3], usize> = HashMap::new();
         for (k, rec) in table.reader.records().enumerate() {
             let line = k + 2;
             let bad = |field: &str, reason: String| crate::io::bad_line(path, line, field, reason);
@@ -69,6 +70,16 @@ impl BoundaryTable {
                 Direction::new(v[0], v[1], v[2]).map_err(|e| bad("direction", e.to_string()))?;
             if v[3].is_nan() || v[3] <= 0.0 {
                 return Err(bad("s_star", format!("{} must be > 0 (or inf)", v[3])));
+            }
+            if let Some(first) = lines.insert(key_of(&d), line) {
+                return Err(bad(
+                    "direction",
+                    format!(
+                        "({}, {}, {}) is the direction of line {first} (to 1e-9 after \
+                         normalizing): each direction may appear once",
+                        v[0], v[1], v[2]
+                    ),
+                ));
             }
             map.insert(key_of(&d), v[3]);
         }

@@ -159,8 +159,13 @@ impl ContinuumParams {
                 "relative tolerance must be in (0, 1)",
             ));
         }
-        if !(self.step.is_finite() && self.step > 0.0 && self.step <= 0.5) {
-            return Err(Error::invalid("step", self.step, "must be in (0, 0.5]"));
+        let min_step = crate::limits::MIN_CONTINUUM_STEP;
+        if !(self.step.is_finite() && self.step >= min_step && self.step <= 0.5) {
+            return Err(Error::invalid(
+                "step",
+                self.step,
+                format!("must be in [{min_step:e}, 0.5] (helixreach::limits)"),
+            ));
         }
         if !(self.s_max.is_finite() && self.s_max > 0.0) {
             return Err(Error::invalid(

@@ -246,6 +246,22 @@ impl SimParams {
                 }
             }
         }
+        // One time step advances s by speed·dt: more than s_max in one step is no simulation
+        // (and would evaluate helices far past s_max).
+        let ds = self.speed * self.dt;
+        if ds > self.s_max {
+            return Err(Error::invalid(
+                "speed",
+                self.speed,
+                format!(
+                    "one time step (dt = {} s) would advance s by speed·dt = {}, more than \
+                     s_max = {}: lower the speed or dt",
+                    crate::error::fmt_num(self.dt),
+                    crate::error::fmt_num(ds),
+                    crate::error::fmt_num(self.s_max)
+                ),
+            ));
+        }
         // Loading to s_max, and with unloading back to 0 plus the hold: an upper bound on the
         // steps of the run.
         let load = self.s_max / (self.speed * self.dt);

@@ -95,7 +95,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     opts.roll = args.roll;
     opts.azimuths = match args.azimuths {
         Some(0) => anyhow::bail!("--azimuths 0: need at least one azimuth"),
-        Some(n) => Some(azimuth_grid(n)),
+        Some(n) => Some(azimuth_grid(helixreach::limits::check_size(
+            "--azimuths",
+            n,
+            helixreach::limits::MAX_AZIMUTHS,
+        )?)),
         None => None,
     };
     opts.exact_node_limit = args.exact_nodes;
@@ -114,14 +118,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         progress: !args.quiet,
     };
     let t0 = std::time::Instant::now();
-    let go = || run_layout(&rig, &dirs, table.as_ref(), &opts, &control, &args.out);
-    let report = match args.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()?
-            .install(go)?,
-        None => go()?,
+    let go = || {
+        Ok(run_layout(
+            &rig,
+            &dirs,
+            table.as_ref(),
+            &opts,
+            &control,
+            &args.out,
+        )?)
     };
+    let report = super::args::with_threads(args.threads, go)?;
     let Some(rep) = report else {
         eprintln!(
             "layout: shard written in {:.1} s",

@@ -84,15 +84,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     sweep.checkpoint_interval = checkpoint;
     sweep.shard = args.shard;
     sweep.progress = !args.quiet;
-    let go = || run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep);
+    let go = || Ok(run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep)?);
     let t0 = std::time::Instant::now();
-    let summary = match args.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()?
-            .install(go)?,
-        None => go()?,
-    };
+    let summary = super::args::with_threads(args.threads, go)?;
     eprintln!(
         "reach: {} directions ({} computed, {} resumed) in {:.1} s -> {}",
         summary.total,
