@@ -768,7 +768,7 @@ fn cli_boundary_resume_shards_merge_and_threads() {
     );
     assert_eq!(
         lines[1],
-        "dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error"
+        "dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error,refused"
     );
     assert_eq!(lines.len(), 62);
     // Rows are in Fibonacci order and agree with the library.

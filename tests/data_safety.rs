@@ -1097,3 +1097,73 @@ fn reach_rows_cut_by_the_waypoint_limit_say_so() {
     }
     assert!(cut > 0, "{rows:?}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// A refused direction is a row with its reason
+// ---------------------------------------------------------------------------------------------
+
+/// `boundary --method der` on a set holding a direction DER refuses (κ̂ = 1e-9, too close to
+/// the κ = 0 plane): the sweep finishes with that direction's row carrying the reason, resumes
+/// past it, and a `--boundary` table with it is refused naming the line.
+#[test]
+fn a_refused_der_direction_is_a_row_and_the_sweep_finishes_and_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let dirs = dir.path().join("d.csv");
+    std::fs::write(
+        &dirs,
+        "dir_kappa,dir_tau,dir_omega\n0.5,0.5,0.5\n1e-9,0.6,-0.8\n0.3,0.9,0.3\n",
+    )
+    .unwrap();
+    let out = dir.path().join("b.csv");
+    let run = |extra: &[&str]| {
+        let mut a = vec![
+            "boundary",
+            "--method",
+            "der",
+            "--n-edges",
+            "40",
+            "--directions",
+            s(&dirs),
+            "--out",
+            s(&out),
+        ];
+        a.extend_from_slice(extra);
+        cli(&a)
+    };
+    let o = run(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = data_rows(&out);
+    assert_eq!(rows.len(), 3, "{rows:?}");
+    let f: Vec<&str> = rows[1].split(',').collect();
+    assert_eq!(f[3], "NaN", "{}", rows[1]);
+    assert!(rows[1].contains("kappa = 0 plane"), "{}", rows[1]);
+    for r in [&rows[0], &rows[2]] {
+        let f: Vec<&str> = r.split(',').collect();
+        assert!(f[3].parse::<f64>().unwrap().is_finite(), "{r}");
+        assert_eq!(f.last(), Some(&""), "{r}");
+    }
+    let text = std::fs::read_to_string(&out).unwrap();
+    let o = run(&["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("0 computed, 3 resumed"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+    let o = cli(&[
+        "reach",
+        "--directions",
+        s(&dirs),
+        "--boundary",
+        s(&out),
+        "--out",
+        s(&dir.path().join("r.csv")),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("b.csv:4") && stderr(&o).contains("refused"),
+        "{}",
+        stderr(&o)
+    );
+}

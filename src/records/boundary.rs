@@ -33,6 +33,10 @@ pub struct BoundaryRecord<'a> {
     /// The method's error estimate of s*, in exponent notation (`1.5e-9`).
     #[serde(serialize_with = "csv_out::real_exp")]
     pub est_error: Real,
+    /// Why the method gave no s* for this direction (empty when it did): the row of a refused
+    /// direction has `nan` in `s_star`, `kappa`, `tau`, `omega` and `est_error`, so a sweep
+    /// finishes (and resumes) past it and the reason stays with the direction.
+    pub refused: String,
 }
 
 impl CsvRecord for BoundaryRecord<'_> {
@@ -47,6 +51,7 @@ impl CsvRecord for BoundaryRecord<'_> {
         "method",
         "resolution",
         "est_error",
+        "refused",
     ];
 }
 
@@ -69,7 +74,15 @@ impl<'a> BoundaryRecord<'a> {
             method,
             resolution,
             est_error,
+            refused: String::new(),
         }
+    }
+
+    /// The record of a direction the method refused, with the reason (one line).
+    pub fn refused(d: &Direction, method: &'a str, resolution: &'a str, reason: &str) -> Self {
+        let mut r = Self::new(d, Real::NAN, method, resolution, Real::NAN);
+        r.refused = reason.replace(['\n', '\r'], " ");
+        r
     }
 }
 

@@ -128,6 +128,19 @@ pub fn boundary_row(
     ))
 }
 
+/// The row of a direction the boundary method refused (see
+/// [`boundary::BoundaryRecord::refused`]).
+pub fn boundary_refused_row(
+    d: &Direction,
+    method: &str,
+    resolution: &str,
+    reason: &str,
+) -> Result<Vec<String>> {
+    csv_out::fields(&boundary::BoundaryRecord::refused(
+        d, method, resolution, reason,
+    ))
+}
+
 pub use crate::planning::ladder::BlockCause;
 pub use crate::planning::planner::ReachClass;
 
@@ -373,12 +386,15 @@ pub fn read_boundary(path: &Path) -> Result<Vec<BoundaryRow>> {
     let t = Table::read(path)?;
     let dc = t.dir_cols()?;
     let is = t.col("s_star")?;
+    // Rows of directions the method refused (non-empty `refused`) have no boundary point.
+    let irf = t.has("refused").then(|| t.col("refused")).transpose()?;
     let im = t.has("method").then(|| t.col("method")).transpose()?;
     let ir = t
         .has("resolution")
         .then(|| t.col("resolution"))
         .transpose()?;
     (0..t.rows.len())
+        .filter(|&r| irf.is_none_or(|c| t.text(r, c).is_empty()))
         .map(|r| {
             let s_star = t.real(r, is, "s_star", true)?;
             if s_star < 0.0 {

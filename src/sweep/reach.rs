@@ -50,6 +50,7 @@ impl BoundaryTable {
             col("dir_omega")?,
             col("s_star")?,
         ];
+        let refused_col = table.column("refused", "").ok();
         let mut map = HashMap::new();
         let mut lines: HashMap<[i64; 3], usize> = HashMap::new();
         for (k, rec) in table.reader.records().enumerate() {
@@ -58,6 +59,15 @@ impl BoundaryTable {
             let rec = rec.map_err(|e| bad("record", e.to_string()))?;
             let line = crate::io::line_of(&rec, line);
             let bad = |field: &str, reason: String| crate::io::bad_line(path, line, field, reason);
+            if let Some(why) = refused_col
+                .and_then(|c| rec.get(c))
+                .filter(|w| !w.is_empty())
+            {
+                return Err(bad(
+                    "refused",
+                    format!("the boundary method gave no s* for this direction: {why}"),
+                ));
+            }
             let mut v = [0.0; 4];
             for (i, (&c, name)) in cols
                 .iter()

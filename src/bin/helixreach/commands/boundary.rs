@@ -9,8 +9,10 @@
 //!
 //! With `--method der` the DER-statics boundary (`--n-edges N`) is computed instead; its
 //! `resolution` column is `n=N` and `est_error` is the root-finding error plus the empirical
-//! discretization bound of `boundary::der` (checked against the continuum: a DER s* outside it
-//! is an error, not a row).
+//! discretization bound of `boundary::der` (checked against the continuum). A direction the
+//! method refuses (a DER s* outside that bound, a direction too close to κ = 0 for DER, a solve
+//! that does not converge) is a row with `nan` numbers and the reason in the last column,
+//! `refused`; `reach --boundary` and `layout --boundary` refuse such a row naming its line.
 //!
 //! `--speed-report FILE` instead measures time per direction (one thread's CPU time, best of 3) and the error against a
 //! tight-tolerance continuum reference, for several resolutions of the chosen method, and writes
@@ -182,7 +184,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let summary = driver::run(
         &dirs,
         dir_key,
-        |d| row(d, solve(d)?, method, &resolution),
+        // A direction the method refuses is a row with its reason: the sweep finishes and
+        // resumes past it.
+        |d| match solve(d) {
+            Ok(r) => row(d, r, method, &resolution),
+            Err(e) => {
+                helixreach::records::boundary_refused_row(d, method, &resolution, &e.to_string())
+            }
+        },
         &opts,
     )?;
     eprintln!(
