@@ -20,6 +20,7 @@
 //! | rendered frames (`render --frames`, `--gif-frames`) | [`MAX_FRAMES`] = 10,000 | one image each |
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
 //! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
+//! | search nodes per ray (rig `planner.max_search_nodes`) | [`MAX_SEARCH_NODES`] = 9,000,000 | ≈ 1 GiB |
 //! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |
 //! | worker threads (`--threads`) | 1 ≤ n ≤ [`MAX_THREADS`] = 1,024 | one OS thread each |
 //! | collision sampling of a joint step (rig `planner.segment_check_step`) | ≥ [`MIN_SEGMENT_CHECK_STEP`] = 0.001 rad | samples ∝ step / segment_check_step; `check` samples a step with at most [`MAX_SEGMENT_SAMPLES`] = 10,000 configurations (a step that needs more is a jump) |
@@ -53,6 +54,9 @@ const _: () = assert!(40 * MAX_RIG_COUNT <= MAX_IK_RESTARTS);
 pub const MAX_IK_ITERATIONS: usize = 100_000;
 /// Most waypoints per ray (the rig's `max_waypoints` may be lower).
 pub const MAX_WAYPOINTS: usize = 1_000_000;
+/// Most nodes of one ray's search (rig `planner.max_search_nodes`): 1 GiB at ≈ 112 bytes per
+/// node ([`crate::planning::search::MAX_SEARCH_BYTES`]).
+pub const MAX_SEARCH_NODES: usize = 9_000_000;
 /// Fewest random configurations for recomputing a robot's never-colliding link pairs: with n
 /// samples, a pair that collides on a fraction p of the configuration space is missed with
 /// probability (1 − p)ⁿ; n = 10,000 misses a p = 0.1 % pair with probability < 5·10⁻⁵.
@@ -90,6 +94,7 @@ pub fn rig_count_max(field: &str) -> usize {
     match field {
         "azimuth.count" => MAX_AZIMUTHS,
         "planner.max_waypoints" => MAX_WAYPOINTS,
+        "planner.max_search_nodes" => MAX_SEARCH_NODES,
         _ => MAX_RIG_COUNT,
     }
 }

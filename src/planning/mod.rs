@@ -6,6 +6,7 @@
 //! | [`pose_path`] | a ray (S̄, α) as rod-end poses in the base frame, adaptive in s |
 //! | [`ladder`] | the layered graph of IK solutions and its forward dynamic programming |
 //! | [`planner`] | rungs of IK solutions (track mode), pruning, edges, reconfiguration, the plan of one ray |
+//! | [`search`] | the decision of one ray by a search of its valid set: a path or a certificate |
 //! | [`self_motion`] | walking the self-motion manifold of a held pose; resampling within 1e-6 m / rad |
 //! | [`trajectory`] | time parametrization and the CSV / JSON writers |
 //! | [`check`] | validation of an existing joint trajectory: limits, collisions, steps, pose error |
@@ -31,6 +32,7 @@ pub mod planner;
 pub mod pose_path;
 pub mod rig;
 pub mod rig_write;
+pub mod search;
 pub mod self_motion;
 pub mod trajectory;
 pub mod witness;

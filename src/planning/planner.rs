@@ -163,7 +163,7 @@ use crate::helix::Helix;
 use crate::math::{rot_z, tol, Iso3, Mat3, Real, Vec3};
 use crate::planning::ladder::{BlockCause, CauseCounts, Ladder};
 use crate::planning::pose_path::{pose_path, PoseMap, Ray, Spacing, Waypoint};
-use crate::planning::rig::{tool_from_director, Rig, RollMode};
+use crate::planning::rig::{tool_from_director, Rig, RollMode, SearchMethod};
 use crate::planning::self_motion::{self, Held, WalkSettings};
 use crate::planning::trajectory::{Phase, Trajectory};
 use crate::robot::collision::{BodyRef, Contact, RodGeometry};
@@ -195,6 +195,9 @@ pub enum ReachClass {
     Partial,
     /// The path cannot leave the straight rod.
     Blocked,
+    /// The search hit its node bound (`planner.max_search_nodes`) before deciding the ray
+    /// ([`crate::planning::search`]); `s_reached` is the farthest s found.
+    Undecided,
 }
 
 impl ReachClass {
@@ -204,6 +207,7 @@ impl ReachClass {
             ReachClass::Testable => "testable",
             ReachClass::Partial => "partial",
             ReachClass::Blocked => "blocked",
+            ReachClass::Undecided => "undecided",
         }
     }
 }
@@ -246,6 +250,10 @@ pub struct RayPlan {
     pub n_reached: usize,
     /// Self-motion reconfigurations at a held pose on the path.
     pub reconfigurations: usize,
+    /// Back-offs on the path (maximal runs of phase `backoff`; the search only).
+    pub backoffs: usize,
+    /// Nodes the search created ([`crate::planning::search`]; 0 for the ladder).
+    pub search_nodes: usize,
     /// Start nodes per start component of the level that produced this plan: the base width
     /// `redundancy_samples`, or k of a dense level (module docs). A ray testable at level k is
     /// testable for every `dense_samples` ≥ k.
@@ -314,22 +322,22 @@ impl RigOverrides {
 /// The start rungs of one roll mode: the diverse first rung, and one rung per further connected
 /// valid self-motion component of the straight rod's pose that the first rung does not touch.
 #[derive(Debug, Clone)]
-struct StartSet {
+pub(crate) struct StartSet {
     first: Vec<Node>,
     others: Vec<Vec<Node>>,
     /// Every connected valid start component, densely sampled (its IK solutions and the
     /// self-motion walk through it), in farthest-point order: any prefix is spread over the
     /// component and a longer prefix contains a shorter one (the dense levels).
-    comps: Vec<Vec<Node>>,
+    pub(crate) comps: Vec<Vec<Node>>,
     /// The valid IK solutions of the straight rod, grouped by the same components (in the
     /// order of `comps`).
     solutions: Vec<Vec<Node>>,
 }
 
 #[derive(Debug, Clone, Copy)]
-struct Node {
-    q: [Real; MAX_DOF],
-    motor: Real,
+pub(crate) struct Node {
+    pub(crate) q: [Real; MAX_DOF],
+    pub(crate) motor: Real,
 }
 
 impl Node {
@@ -348,13 +356,13 @@ impl Node {
 /// start rungs. `Send + Sync`; per-ray scratch lives in the calls.
 #[derive(Debug)]
 pub struct Planner {
-    rig: Rig,
-    model: RobotModel,
-    collision: CollisionModel,
-    ik: IkParams,
+    pub(crate) rig: Rig,
+    pub(crate) model: RobotModel,
+    pub(crate) collision: CollisionModel,
+    pub(crate) ik: IkParams,
     tool_inv: Frame,
-    dof: usize,
-    red_joint: usize,
+    pub(crate) dof: usize,
+    pub(crate) red_joint: usize,
     weights: [Real; MAX_DOF],
     start_fixed: OnceLock<std::result::Result<StartSet, CauseCounts>>,
     start_motor: OnceLock<std::result::Result<StartSet, CauseCounts>>,
@@ -365,7 +373,7 @@ pub struct Planner {
     other_margin: OnceLock<std::result::Result<Box<Planner>, String>>,
 }
 
-fn cause_of(c: &Contact) -> BlockCause {
+pub(crate) fn cause_of(c: &Contact) -> BlockCause {
     match (c.a, c.b) {
         (BodyRef::Rod(_), _) | (_, BodyRef::Rod(_)) => BlockCause::RodCollision,
         (_, BodyRef::Obstacle(_)) | (BodyRef::Obstacle(_), _) => BlockCause::SceneCollision,
@@ -374,16 +382,16 @@ fn cause_of(c: &Contact) -> BlockCause {
 }
 
 /// Per-ray scratch.
-struct Scratch {
-    ws: CollisionWorkspace,
-    rod: Vec<Vec3>,
+pub(crate) struct Scratch {
+    pub(crate) ws: CollisionWorkspace,
+    pub(crate) rod: Vec<Vec3>,
     qi: [Real; MAX_DOF],
 }
 
 impl Planner {
     /// The self-motion walk settings of this rig (resolution `planner.self_motion_step`, steps
     /// within `planner.max_joint_step`).
-    fn walk_settings(&self) -> WalkSettings {
+    pub(crate) fn walk_settings(&self) -> WalkSettings {
         let p = &self.rig.planner;
         WalkSettings {
             max_step: p.self_motion_step,
@@ -438,6 +446,9 @@ impl Planner {
             max_iterations: 60,
             ..IkParams::default()
         };
+        if rig.planner.search == SearchMethod::Exact {
+            crate::planning::search::check_resolution(&rig.planner, &rig.source)?;
+        }
         let tool_inv = Frame::from_iso(&rig.tool).inverse();
         let planner = Planner {
             rig,
@@ -520,7 +531,7 @@ impl Planner {
             .to_iso()
     }
 
-    fn target(&self, tool: &Iso3, roll: RollMode) -> IkTarget {
+    pub(crate) fn target(&self, tool: &Iso3, roll: RollMode) -> IkTarget {
         let t = IkTarget::Pose(self.tip_target(tool));
         match roll {
             RollMode::Fixed => t,
@@ -529,7 +540,7 @@ impl Planner {
     }
 
     /// The rod capsules of the helix `kto` (base frame) into `out`.
-    fn rod_nodes(&self, kto: [Real; 3], azimuth: Real, out: &mut [Vec3]) -> Result<()> {
+    pub(crate) fn rod_nodes(&self, kto: [Real; 3], azimuth: Real, out: &mut [Vec3]) -> Result<()> {
         let h = Helix::new(kto[0], kto[1], kto[2])?;
         crate::helix::discrete::fill_nodes(&h, out);
         let rc = self.rig.clamp_rotation() * rot_z(azimuth);
@@ -545,7 +556,11 @@ impl Planner {
         self.rig.rod_geometry(nodes)
     }
 
-    fn check_config(&self, q: &[Real], sc: &mut Scratch) -> std::result::Result<(), BlockCause> {
+    pub(crate) fn check_config(
+        &self,
+        q: &[Real],
+        sc: &mut Scratch,
+    ) -> std::result::Result<(), BlockCause> {
         let rod = self.rod_geometry(&sc.rod);
         match self.collision.check(q, &mut sc.ws, Some(&rod)) {
             None => Ok(()),
@@ -556,7 +571,7 @@ impl Planner {
     /// Motor angle of an arm configuration realising waypoint `w`: ω/c in roll mode `fixed`;
     /// `ω/c − ψ` in roll mode `motor`, ψ the arm's roll about d3 relative to the transported
     /// frame, unwrapped to the branch nearest `near`.
-    fn motor_angle(&self, w: &Waypoint, q: &[Real], roll: RollMode, near: Real) -> Real {
+    pub(crate) fn motor_angle(&self, w: &Waypoint, q: &[Real], roll: RollMode, near: Real) -> Real {
         match roll {
             RollMode::Fixed => w.motor,
             RollMode::Motor => {
@@ -573,12 +588,12 @@ impl Planner {
         }
     }
 
-    fn motor_ok(&self, m: Real) -> bool {
+    pub(crate) fn motor_ok(&self, m: Real) -> bool {
         let (lo, hi) = self.rig.motor.range;
         m >= lo && m <= hi
     }
 
-    fn new_scratch(&self) -> Scratch {
+    pub(crate) fn new_scratch(&self) -> Scratch {
         Scratch {
             ws: self.collision.workspace(),
             rod: vec![Vec3::zeros(); self.rig.planner.rod_capsules + 1],
@@ -588,7 +603,7 @@ impl Planner {
 
     /// The start rung (straight rod) for `roll`, cached; `Err` with the rejection counts when no
     /// start configuration is valid.
-    fn start(&self, roll: RollMode) -> std::result::Result<&StartSet, CauseCounts> {
+    pub(crate) fn start(&self, roll: RollMode) -> std::result::Result<&StartSet, CauseCounts> {
         let cell = match roll {
             RollMode::Fixed => &self.start_fixed,
             RollMode::Motor => &self.start_motor,
@@ -598,7 +613,7 @@ impl Planner {
             .map_err(|c| *c)
     }
 
-    fn edge_cost(&self, a: &Node, b: &Node) -> Option<Real> {
+    pub(crate) fn edge_cost(&self, a: &Node, b: &Node) -> Option<Real> {
         let mut c2 = 0.0;
         for j in 0..self.dof {
             let d = (b.q[j] - a.q[j]).abs();
@@ -610,7 +625,7 @@ impl Planner {
         Some(c2.sqrt() + self.rig.planner.motor_weight * (b.motor - a.motor).abs())
     }
 
-    fn check_segment(
+    pub(crate) fn check_segment(
         &self,
         a: &Node,
         b: &Node,
@@ -644,6 +659,9 @@ impl Planner {
         roll: RollMode,
         want_path: bool,
     ) -> Result<RayPlan> {
+        if self.rig.planner.search == SearchMethod::Exact {
+            return self.decide_ray(dir, s_star, azimuth, roll, want_path);
+        }
         if roll == RollMode::Fixed {
             return self.plan_ray_in(dir, s_star, azimuth, roll, want_path);
         }
@@ -938,6 +956,8 @@ impl Planner {
             n_waypoints: wps.len(),
             n_reached: 0,
             reconfigurations: 0,
+            backoffs: 0,
+            search_nodes: 0,
             start_samples: width,
             levels_gated: false,
             path_cost: 0.0,
@@ -1342,7 +1362,8 @@ impl Planner {
                 None => true,
                 Some(b) => {
                     let rank = |c: ReachClass| match c {
-                        ReachClass::Testable => 2,
+                        ReachClass::Testable => 3,
+                        ReachClass::Undecided => 2,
                         ReachClass::Partial => 1,
                         ReachClass::Blocked => 0,
                     };
@@ -1420,6 +1441,18 @@ pub fn material_from_arm(rig: &Rig, r_arm: &Mat3, m: Real) -> Mat3 {
     let rc = rig.clamp_rotation();
     let p = tool_from_director();
     rc * (rc.transpose() * r_arm * p.transpose()) * rot_z(m)
+}
+
+/// `q` padded to `MAX_DOF` entries with zeros.
+pub(crate) fn pad(q: &[Real]) -> [Real; MAX_DOF] {
+    let mut out = [0.0; MAX_DOF];
+    out[..q.len()].copy_from_slice(q);
+    out
+}
+
+/// The ladder node of joints `q` and motor angle `motor`.
+pub(crate) fn node_of(q: &self_motion::Q, motor: Real) -> Node {
+    node(*q, motor)
 }
 
 fn node(q: self_motion::Q, motor: Real) -> Node {

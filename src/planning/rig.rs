@@ -84,6 +84,42 @@ impl std::fmt::Display for RollMode {
     }
 }
 
+/// How a ray is decided (`planner.search`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SearchMethod {
+    /// The ladder planner with start levels, gates and reconfiguration walks
+    /// ([`crate::planning::planner`]).
+    #[default]
+    Ladder,
+    /// The search of the valid set with a path or a certificate ([`crate::planning::search`]).
+    Exact,
+}
+
+impl SearchMethod {
+    /// The name used in rig files and on the command line (`ladder`, `exact`).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            SearchMethod::Ladder => "ladder",
+            SearchMethod::Exact => "exact",
+        }
+    }
+}
+
+impl std::str::FromStr for SearchMethod {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "ladder" => Ok(SearchMethod::Ladder),
+            "exact" => Ok(SearchMethod::Exact),
+            _ => Err(Error::invalid(
+                "planner.search",
+                s,
+                "must be `ladder` or `exact`",
+            )),
+        }
+    }
+}
+
 /// The robot of a rig.
 #[derive(Debug, Clone)]
 pub struct RobotSpec {
@@ -180,6 +216,13 @@ pub struct PlannerSettings {
     pub self_motion_step: Real,
     /// Time the rod is held at the end of loading before unloading (s).
     pub hold_time: Real,
+    /// How a ray is decided: `ladder` (default) or `exact` ([`crate::planning::search`]).
+    pub search: SearchMethod,
+    /// Allow driving back along the ray below s* to reconfigure (the search only; phase
+    /// `backoff`).
+    pub allow_backoff: bool,
+    /// Most nodes of one ray's search (≈ 112 bytes each); a ray needing more is `undecided`.
+    pub max_search_nodes: usize,
 }
 
 impl PlannerSettings {
@@ -247,6 +290,9 @@ impl Default for PlannerSettings {
             allow_reconfiguration: true,
             self_motion_step: 0.02,
             hold_time: 2.0,
+            search: SearchMethod::Ladder,
+            allow_backoff: true,
+            max_search_nodes: 1_000_000,
         }
     }
 }
@@ -565,6 +611,9 @@ struct RawPlanner {
     allow_reconfiguration: Option<bool>,
     self_motion_step: Option<Real>,
     hold_time: Option<Real>,
+    search: Option<String>,
+    allow_backoff: Option<bool>,
+    max_search_nodes: Option<usize>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -927,6 +976,18 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             p.self_motion_step.unwrap_or(d.self_motion_step),
         )?,
         hold_time: c.non_negative("planner.hold_time", p.hold_time.unwrap_or(d.hold_time))?,
+        search: match &p.search {
+            None => d.search,
+            Some(s) => s
+                .parse()
+                .map_err(|_| c.err("planner.search", s, "must be `ladder` or `exact`"))?,
+        },
+        allow_backoff: p.allow_backoff.unwrap_or(d.allow_backoff),
+        max_search_nodes: c.count(
+            "planner.max_search_nodes",
+            p.max_search_nodes.unwrap_or(d.max_search_nodes),
+            1,
+        )?,
     };
     if planner.self_motion_step > max_joint_step {
         return Err(c.err(

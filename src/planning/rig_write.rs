@@ -112,6 +112,9 @@ struct OutPlanner<'a> {
     allow_reconfiguration: bool,
     self_motion_step: Real,
     hold_time: Real,
+    search: &'static str,
+    allow_backoff: bool,
+    max_search_nodes: usize,
 }
 
 fn arr(v: &crate::math::Vec3) -> [Real; 3] {
@@ -195,6 +198,9 @@ impl Rig {
                 allow_reconfiguration: pl.allow_reconfiguration,
                 self_motion_step: pl.self_motion_step,
                 hold_time: pl.hold_time,
+                search: pl.search.as_str(),
+                allow_backoff: pl.allow_backoff,
+                max_search_nodes: pl.max_search_nodes,
             },
             obstacles: &self.obstacles,
         };

@@ -46,24 +46,33 @@ pub enum Phase {
     Hold,
     /// Driving the rod back to the straight rod along the loading path.
     Unload,
+    /// Driving back along the ray below s* during loading (to reconfigure and drive on).
+    Backoff,
 }
 
 impl Phase {
-    /// The CSV name (`load`, `reconfigure`, `hold`, `unload`).
+    /// The CSV name (`load`, `reconfigure`, `hold`, `unload`, `backoff`).
     pub fn as_str(&self) -> &'static str {
         match self {
             Phase::Load => "load",
             Phase::Reconfigure => "reconfigure",
             Phase::Hold => "hold",
             Phase::Unload => "unload",
+            Phase::Backoff => "backoff",
         }
     }
 
     /// Parse the CSV name.
     pub fn parse(s: &str) -> Option<Phase> {
-        [Phase::Load, Phase::Reconfigure, Phase::Hold, Phase::Unload]
-            .into_iter()
-            .find(|p| p.as_str() == s)
+        [
+            Phase::Load,
+            Phase::Reconfigure,
+            Phase::Hold,
+            Phase::Unload,
+            Phase::Backoff,
+        ]
+        .into_iter()
+        .find(|p| p.as_str() == s)
     }
 }
 

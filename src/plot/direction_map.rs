@@ -115,6 +115,8 @@ impl Category {
             ReachClass::Testable => Category::Testable,
             ReachClass::Partial => Category::Partial(r.cause),
             ReachClass::Blocked => Category::Blocked(r.cause),
+            // Drawn like a partial ray of unknown cause (grey): the search stopped at its bound.
+            ReachClass::Undecided => Category::Partial(None),
         }
     }
 }

@@ -164,6 +164,7 @@ fn class_color(c: ReachClass) -> RGBColor {
         ReachClass::Testable => style::GREEN,
         ReachClass::Partial => style::SKY_BLUE,
         ReachClass::Blocked => style::VERMILLION,
+        ReachClass::Undecided => style::GREY,
     }
 }
 

@@ -1,0 +1,290 @@
+//! The search: best-first flood fill of the valid set from every start configuration.
+//!
+//! # Nodes and resolution
+//! A node is a configuration ([`super::linking::Config`]) reached by an accepted edge (or a
+//! start). A new configuration is **the same node** as an existing one of the same slice when
+//! every joint differs by at most `MERGE_FRACTION`·h (h = `planner.self_motion_step`) and the
+//! roll by at most `MERGE_FRACTION`·`ROLL_STEP`: the valid set of a slice is represented by
+//! samples at most about h apart along each self-motion curve (roll `fixed`, 7-DOF), by a
+//! grid-like cover of h × `ROLL_STEP` (roll `motor`), or by its isolated points (6-DOF).
+//!
+//! # Order
+//! Nodes wait in a priority queue keyed by (slice, move kind, insertion order), largest first;
+//! a node is queued once for its load move, then for its moves inside the slice, then (stage
+//! 2) for its back-off move. The search drives forward as long as it can (a testable ray costs about one node per slice) and falls
+//! back to the farthest unexpanded node when blocked (a reconfiguration there, or a back-off).
+//! When the queue empties the reachable piece is exhausted: every node reachable from the starts
+//! at this resolution has been expanded, and the farthest slice among them is the ray's
+//! `s_reached` (the certificate).
+//!
+//! # Moves
+//! Load and (when the rig allows reconfiguration, and always at slice 0, where the rod is not
+//! yet clamped) walk/roll moves; back-off moves from slices with s ≤ s* when the rig allows
+//! them. A reverse graph ([`Direction::Reverse`], the far-end search of the certificate) makes
+//! the reversed moves: from slice j to j − 1 (a reversed load), inside the slice (always at its
+//! first slice, to cover that slice's valid set), to j + 1 ≤ cap where s ≤ s* (a reversed
+//! back-off).
+//!
+//! # Bound
+//! At most `planner.max_search_nodes` nodes (each ≈ 100 bytes): a search that would create more
+//! stops and the ray is `undecided` (never a guessed class).
+
+use super::linking::{Config, Linker, Move, ROLL_STEP};
+use crate::math::Real;
+use crate::planning::ladder::CauseCounts;
+use std::collections::{BinaryHeap, HashMap};
+
+/// Two configurations of one slice closer than this fraction of the walk step (every joint; and
+/// of the roll step in ψ) are one node.
+pub(crate) const MERGE_FRACTION: Real = 0.6;
+
+/// Queue entry kinds, expanded in this order at one slice: the load move, the moves inside the
+/// slice, the back-off move.
+const LOAD: u8 = 2;
+const INSIDE: u8 = 1;
+const BACK: u8 = 0;
+
+/// Bytes per node, for the memory bound's message (node, bucket entry, queue entry).
+pub(crate) const NODE_BYTES: usize = 112;
+
+/// How a node was reached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Via {
+    /// A start configuration.
+    Start,
+    /// A load step from the previous slice.
+    Load,
+    /// A back-off step from the next slice.
+    Backoff,
+    /// A move inside the slice (walk or roll).
+    Reconfigure,
+}
+
+/// A node of the search graph.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Node {
+    /// The configuration.
+    pub c: Config,
+    /// The node it was reached from (`u32::MAX` for a start).
+    pub parent: u32,
+    /// How.
+    pub via: Via,
+}
+
+/// The outcome of a search.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Outcome {
+    /// A node of the last slice (its index).
+    Reached(u32),
+    /// The reachable piece is exhausted.
+    Exhausted,
+    /// The node bound was hit.
+    Bound,
+}
+
+/// Search settings.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Rules {
+    /// Moves inside a slice after slice 0.
+    pub reconfigure: bool,
+    /// Back-off moves (stage 2).
+    pub backoff: bool,
+    /// Roll moves (roll `motor`).
+    pub roll: bool,
+    /// Node bound.
+    pub max_nodes: usize,
+}
+
+/// The search graph of one ray.
+pub(crate) struct Graph {
+    /// Nodes in insertion order.
+    pub nodes: Vec<Node>,
+    buckets: HashMap<(u32, i64), Vec<u32>>,
+    queue: BinaryHeap<(u32, u8, u32)>,
+    /// Rejected forward (load) moves per slice, by cause.
+    pub causes: Vec<CauseCounts>,
+    /// Farthest slice of any node.
+    pub farthest: u32,
+    /// Nodes made by the last [`Graph::step`].
+    pub fresh: Vec<u32>,
+    merge_q: Real,
+    red: usize,
+    dof: usize,
+}
+
+/// Which way a graph searches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Direction {
+    /// From the starts toward the last slice.
+    Forward,
+    /// From the valid set of slice `cap` toward the starts, along reversed edges, never above
+    /// `cap` (the far-end search of the certificate).
+    Reverse {
+        /// The slice it starts from.
+        cap: u32,
+    },
+}
+
+impl Graph {
+    /// An empty graph for `n_slices` slices of a `dof`-joint arm, bucketed on joint `red`.
+    pub fn new(n_slices: usize, dof: usize, red: usize, merge_q: Real) -> Graph {
+        Graph {
+            nodes: Vec::new(),
+            buckets: HashMap::new(),
+            queue: BinaryHeap::new(),
+            causes: vec![CauseCounts::default(); n_slices],
+            farthest: 0,
+            fresh: Vec::new(),
+            merge_q,
+            red,
+            dof,
+        }
+    }
+
+    fn key(&self, c: &Config) -> (u32, i64) {
+        (c.slice, (c.q[self.red] / self.merge_q).floor() as i64)
+    }
+
+    /// The node of `c`'s slice within the merge radius of `c`, if any.
+    pub fn find(&self, c: &Config) -> Option<u32> {
+        let (s, k) = self.key(c);
+        let rpsi = MERGE_FRACTION * ROLL_STEP;
+        for kk in k - 1..=k + 1 {
+            let Some(ids) = self.buckets.get(&(s, kk)) else {
+                continue;
+            };
+            for &id in ids {
+                let o = &self.nodes[id as usize].c;
+                if (o.psi - c.psi).abs() <= rpsi
+                    && (0..self.dof).all(|j| (o.q[j] - c.q[j]).abs() <= self.merge_q)
+                {
+                    return Some(id);
+                }
+            }
+        }
+        None
+    }
+
+    /// Add a node and queue it.
+    pub fn insert(&mut self, n: Node) -> u32 {
+        let id = self.nodes.len() as u32;
+        let key = self.key(&n.c);
+        self.buckets.entry(key).or_default().push(id);
+        self.farthest = self.farthest.max(n.c.slice);
+        self.queue.push((n.c.slice, LOAD, id));
+        self.nodes.push(n);
+        id
+    }
+
+    /// The merge radius in joints (rad).
+    pub fn merge_q(&self) -> Real {
+        self.merge_q
+    }
+
+    /// The slice of the next queued node (`None` when the queue is empty).
+    pub fn top(&self) -> Option<u32> {
+        self.queue.peek().map(|e| e.0)
+    }
+
+    /// Expand the next queued node (module docs). Returns `Some` when the search ends: a node
+    /// of slice `goal` was made (forward: the last slice), the queue is empty, or the bound was
+    /// hit. The nodes made are listed in `self.fresh`.
+    pub fn step(
+        &mut self,
+        linker: &mut Linker<'_>,
+        rules: &Rules,
+        goal: u32,
+        dir: Direction,
+        backoff_ok: &dyn Fn(u32) -> bool,
+    ) -> Option<Outcome> {
+        self.fresh.clear();
+        let Some((slice, kind, id)) = self.queue.pop() else {
+            return Some(Outcome::Exhausted);
+        };
+        let x = self.nodes[id as usize].c;
+        let mut moves = [Move::Load; 4];
+        let mut n_moves = 0;
+        let mut push = |m: Move| {
+            moves[n_moves] = m;
+            n_moves += 1;
+        };
+        // Forward: load, then inside, then back-off. Reverse (the nodes from which `cap` can be
+        // reached): the reverse of a load (to the previous slice), inside, the reverse of a
+        // back-off (to the next slice, at most `cap`, where s ≤ s*).
+        match kind {
+            LOAD => {
+                match dir {
+                    Direction::Forward => push(Move::Load),
+                    Direction::Reverse { .. } => push(Move::Backoff),
+                }
+                self.queue.push((slice, INSIDE, id));
+            }
+            INSIDE => {
+                let inside = match dir {
+                    Direction::Forward => rules.reconfigure || slice == 0,
+                    Direction::Reverse { cap } => rules.reconfigure || slice == 0 || slice == cap,
+                };
+                if inside {
+                    push(Move::Walk(1));
+                    push(Move::Walk(-1));
+                    if rules.roll {
+                        push(Move::Roll(1));
+                        push(Move::Roll(-1));
+                    }
+                }
+                if rules.backoff {
+                    self.queue.push((slice, BACK, id));
+                }
+            }
+            _ => match dir {
+                Direction::Forward if backoff_ok(slice) => push(Move::Backoff),
+                Direction::Reverse { cap } if slice < cap && backoff_ok(slice + 1) => {
+                    push(Move::Load)
+                }
+                _ => {}
+            },
+        }
+        for &mv in &moves[..n_moves] {
+            let counted = dir == Direction::Forward && mv == Move::Load;
+            let y = match linker.propose(&x, mv, &|c| self.find(c).is_some()) {
+                Ok(Some(y)) => y,
+                Ok(None) => continue,
+                Err(cause) => {
+                    if counted {
+                        self.causes[slice as usize].add(cause);
+                    }
+                    continue;
+                }
+            };
+            if self.find(&y).is_some() {
+                continue;
+            }
+            if let Err(cause) = linker.accept(&x, &y) {
+                if counted {
+                    self.causes[slice as usize].add(cause);
+                }
+                continue;
+            }
+            if self.nodes.len() >= rules.max_nodes {
+                return Some(Outcome::Bound);
+            }
+            let via = match (mv, dir) {
+                (Move::Walk(_) | Move::Roll(_), _) => Via::Reconfigure,
+                (Move::Load, Direction::Forward) | (Move::Backoff, Direction::Reverse { .. }) => {
+                    Via::Load
+                }
+                _ => Via::Backoff,
+            };
+            let nid = self.insert(Node {
+                c: y,
+                parent: id,
+                via,
+            });
+            self.fresh.push(nid);
+            if y.slice == goal {
+                return Some(Outcome::Reached(nid));
+            }
+        }
+        None
+    }
+}

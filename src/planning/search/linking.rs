@@ -1,0 +1,281 @@
+//! Linking: the edges of the search graph, from one configuration to its neighbours.
+//!
+//! From a configuration x = (i, q, ψ) of slice i (see [`super::slices`]):
+//! - **Load** (to slice i + 1) and **back-off** (to slice i − 1): one minimum-norm
+//!   Levenberg–Marquardt run ([`IkSolver::track`]) from q to the neighbouring slice's pose at the
+//!   same roll ψ. Minimum-norm steps follow the self-motion curve continuously, so the tracked
+//!   point is the continuation of x's piece of the valid set.
+//! - **Walk** (inside slice i, roll held; 7-DOF arms): one predictor–corrector step along the
+//!   self-motion curve of the held pose in either direction, predictor `q ± h·n̂` (n̂ the
+//!   cofactor null direction of the Jacobian, max-norm 1; h = `planner.self_motion_step`, halved
+//!   down to `WALK_MIN_STEP` when the corrector jumps; the rule of
+//!   [`crate::planning::self_motion`]).
+//! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same
+//!   rod-end pose (the motor turns the other way, m = ω/c − ψ).
+//!
+//! Every edge x → y needs: y converged to 1e-10 m / rad, every joint step ≤
+//! `planner.max_joint_step` (max-norm), y valid (limits, motor range, collisions), and the
+//! joint-linear segment collision-free (against the rod of the larger s). A rejected edge is
+//! counted under its cause (no IK, joint limit, the collision kind, or `discontinuity` for the
+//! step bound): the blocking cause of a ray is the dominant one at its farthest slice.
+
+use super::slices::Slices;
+use crate::math::Real;
+use crate::planning::ladder::BlockCause;
+use crate::planning::planner::Planner;
+use crate::planning::self_motion::{null_direction, Q};
+use crate::planning::witness::WALK_MIN_STEP;
+use crate::robot::{CollisionWorkspace, IkSolver, IkTarget, Jacobian};
+
+/// Roll step of the moves inside a slice in roll `motor` (rad).
+pub(crate) const ROLL_STEP: Real = 0.05;
+
+/// Least |det A| (m³: three rows of `J` in m) at which [`fast_null_direction`] trusts its one
+/// solve; nearer singular it defers to the seven minors.
+const FAST_NULL_MIN_DET: Real = 1e-6;
+
+/// A move from one configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Move {
+    /// To the next slice.
+    Load,
+    /// To the previous slice.
+    Backoff,
+    /// Along the self-motion curve, sign ±1.
+    Walk(i8),
+    /// Roll step, sign ±1.
+    Roll(i8),
+}
+
+/// A configuration: slice, joints, arm roll.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Config {
+    /// Slice index.
+    pub slice: u32,
+    /// Joints (the first `dof` entries).
+    pub q: Q,
+    /// Arm roll ψ (0 in roll `fixed`).
+    pub psi: Real,
+}
+
+/// Per-ray linking state: the solver, collision scratch and Jacobian.
+pub(crate) struct Linker<'a> {
+    planner: &'a Planner,
+    slices: &'a Slices,
+    solver: IkSolver<'a>,
+    ws: CollisionWorkspace,
+    jac: Jacobian,
+    step: Real,
+}
+
+impl<'a> Linker<'a> {
+    /// A linker for the slices of one ray.
+    pub fn new(planner: &'a Planner, slices: &'a Slices) -> crate::Result<Linker<'a>> {
+        Ok(Linker {
+            planner,
+            slices,
+            solver: IkSolver::new(&planner.model, planner.ik.clone())?,
+            ws: planner.collision.workspace(),
+            jac: Jacobian::zeros(),
+            step: planner.rig.planner.self_motion_step,
+        })
+    }
+
+    /// The solver (track mode), for path extraction.
+    pub fn solver(&self) -> &IkSolver<'a> {
+        &self.solver
+    }
+
+    fn track(&self, target: &IkTarget, seed: &Q) -> Option<Q> {
+        let dof = self.planner.dof;
+        let sol = self.solver.track(target, &seed[..dof], None)?;
+        let mut q = [0.0; crate::robot::MAX_DOF];
+        q[..dof].copy_from_slice(sol.joints());
+        Some(q)
+    }
+
+    fn max_step(&self, a: &Q, b: &Q) -> Real {
+        (0..self.planner.dof)
+            .map(|j| (a[j] - b[j]).abs())
+            .fold(0.0, Real::max)
+    }
+
+    /// The configuration reached from `x` by `mv`, before the collision tests: `Err` with the
+    /// cause when the move has no target (first/last slice, a walk on a non-redundant arm), the
+    /// track fails, the step exceeds the bound or the motor leaves its range. `Ok(None)` when
+    /// the move does not exist (no cause to count).
+    /// A walk whose predictor already lies on a known node (`known`) is not corrected.
+    pub fn propose(
+        &mut self,
+        x: &Config,
+        mv: Move,
+        known: &dyn Fn(&Config) -> bool,
+    ) -> std::result::Result<Option<Config>, BlockCause> {
+        let i = x.slice as usize;
+        let bound = self.planner.rig.planner.max_joint_step;
+        let (slice, psi) = match mv {
+            Move::Load if i + 1 < self.slices.len() => (i + 1, x.psi),
+            Move::Backoff if i > 0 => (i - 1, x.psi),
+            Move::Roll(sign) => (i, x.psi + Real::from(sign) * ROLL_STEP),
+            Move::Walk(_) => (i, x.psi),
+            _ => return Ok(None),
+        };
+        let target = self.slices.target(self.planner, slice, psi);
+        let q = if let Move::Walk(sign) = mv {
+            match self.walk_step(&target, x, Real::from(sign), known) {
+                Some(q) => q,
+                None => return Ok(None),
+            }
+        } else {
+            match self.track(&target, &x.q) {
+                Some(q) => q,
+                None => {
+                    let (lo, hi) = (self.planner.model.lower(), self.planner.model.upper());
+                    let near = (0..self.planner.dof)
+                        .any(|j| x.q[j] - lo[j] < bound || hi[j] - x.q[j] < bound);
+                    return Err(if near {
+                        BlockCause::JointLimit
+                    } else {
+                        BlockCause::NoIk
+                    });
+                }
+            }
+        };
+        if self.max_step(&x.q, &q) > bound {
+            return Err(BlockCause::Discontinuity);
+        }
+        if !self.planner.motor_ok(self.slices.motor(slice, psi)) {
+            return Err(BlockCause::JointLimit);
+        }
+        Ok(Some(Config {
+            slice: slice as u32,
+            q,
+            psi,
+        }))
+    }
+
+    /// The collision tests of the edge x → y: y itself, then the joint-linear segment.
+    pub fn accept(&mut self, x: &Config, y: &Config) -> std::result::Result<(), BlockCause> {
+        let dof = self.planner.dof;
+        self.slices
+            .check(self.planner, y.slice as usize, &y.q[..dof], &mut self.ws)?;
+        let i = x.slice.max(y.slice) as usize;
+        self.slices
+            .segment(self.planner, i, &x.q, &y.q, &mut self.ws)
+    }
+
+    /// Whether a start configuration of slice 0 is valid (collisions; limits and the motor
+    /// range are the start set's).
+    pub fn start_valid(&mut self, x: &Config) -> bool {
+        let dof = self.planner.dof;
+        self.planner
+            .motor_ok(self.slices.motor(x.slice as usize, x.psi))
+            && self
+                .slices
+                .check(self.planner, x.slice as usize, &x.q[..dof], &mut self.ws)
+                .is_ok()
+    }
+
+    /// One predictor–corrector step along the self-motion curve of `target` from `q` (module
+    /// docs); `None` on a non-redundant arm, at a singularity, when no step down to
+    /// `WALK_MIN_STEP` is accepted, or when the full-step predictor lies on a known node (the
+    /// predictor is within O(h²) of the curve: that stretch is already sampled).
+    fn walk_step(
+        &mut self,
+        target: &IkTarget,
+        x: &Config,
+        sign: Real,
+        known: &dyn Fn(&Config) -> bool,
+    ) -> Option<Q> {
+        let q = &x.q;
+        let dof = self.planner.dof;
+        self.planner
+            .model
+            .chain()
+            .jacobian(&q[..dof], &mut self.jac);
+        let n = fast_null_direction(&self.jac, dof).or_else(|| null_direction(&self.jac, dof))?;
+        let bound = self.planner.rig.planner.max_joint_step;
+        let mut h = self.step;
+        while h >= WALK_MIN_STEP {
+            let mut pred = *q;
+            for j in 0..dof {
+                pred[j] += sign * h * n[j];
+            }
+            if h == self.step && known(&Config { q: pred, ..*x }) {
+                return None;
+            }
+            if let Some(p) = self.track(target, &pred) {
+                let step = self.max_step(&p, q);
+                let along: Real = (0..dof).map(|j| (p[j] - q[j]) * sign * n[j]).sum();
+                if along > 0.0 && step <= bound && step >= 0.25 * h {
+                    return Some(p);
+                }
+            }
+            h *= 0.5;
+        }
+        None
+    }
+}
+
+/// The cofactor null direction of [`null_direction`] from one LU solve: with `A` the first six
+/// columns of `J` and `b` the seventh, `n = det(A)·[−A⁻¹b; 1]` (Cramer's rule gives the same
+/// cofactors), scaled to max-norm 1. `None` when `A` is (numerically) singular: then the
+/// caller falls back to the seven minors.
+fn fast_null_direction(jac: &Jacobian, dof: usize) -> Option<Q> {
+    if dof != 7 {
+        return None;
+    }
+    let a: nalgebra::Matrix6<Real> = jac.fixed_columns::<6>(0).into_owned();
+    let b: nalgebra::Vector6<Real> = jac.column(6).into_owned();
+    let lu = a.lu();
+    let det = lu.determinant();
+    if det.is_nan() || det.abs() <= FAST_NULL_MIN_DET {
+        return None;
+    }
+    let x = lu.solve(&(-b))?;
+    let mut n = [0.0; crate::robot::MAX_DOF];
+    for k in 0..6 {
+        n[k] = det * x[k];
+    }
+    n[6] = det;
+    let scale = n.iter().fold(0.0, |m: Real, v| m.max(v.abs()));
+    if !(scale.is_finite() && scale > 0.0) {
+        return None;
+    }
+    for v in n.iter_mut() {
+        *v /= scale;
+    }
+    Some(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::robot::RobotModel;
+
+    /// The one-solve null direction equals the seven-minor one (same orientation).
+    #[test]
+    fn fast_null_direction_matches_cofactors() {
+        let m = RobotModel::load("sawyer", None).unwrap();
+        let mut j = Jacobian::zeros();
+        for k in 0..50 {
+            let t = k as Real * 0.37;
+            let q = [
+                0.3 * t.sin(),
+                -0.8 + 0.2 * t.cos(),
+                0.2 + 0.1 * t,
+                1.4 - 0.05 * t,
+                -0.3,
+                0.9 * (0.5 * t).cos(),
+                0.1,
+            ];
+            m.chain().jacobian(&q, &mut j);
+            let (Some(a), Some(b)) = (fast_null_direction(&j, 7), null_direction(&j, 7)) else {
+                continue;
+            };
+            for i in 0..7 {
+                assert!((a[i] - b[i]).abs() < 1e-9, "{k}: {a:?} vs {b:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,426 @@
+//! Reachability of one ray by a search of its valid set, with a path or a certificate.
+//!
+//! # What is decided
+//! The configurations that hold the rod end along a ray form a set in (s × self-motion): per
+//! waypoint (slice) a union of closed curves per IK branch in roll `fixed` on a 7-DOF arm,
+//! a 2-D set (self-motion × arm roll) in roll `motor`, finitely many points on a 6-DOF arm.
+//! A ray is **testable** when one connected piece of the valid part (limits, self, scene and
+//! rod collision; continuous joint-space edges under `planner.max_joint_step`) contains a
+//! configuration of the straight rod (s = 0) and one of `s*·(1 + margin)`.
+//!
+//! The search ([`graph`]) floods that piece from every start configuration (the start set of
+//! the roll mode: every valid IK solution of the straight rod from many restarts with the
+//! redundancy joint locked on a grid, and the self-motion walks through them), best-first
+//! toward larger s. It returns either a path to the last slice ([`path`]), or a **certificate**
+//! that the ray's `s_reached` (the farthest slice F of the piece reachable from the starts)
+//! cannot be passed:
+//! - the forward piece exhausted (every node reachable from a start expanded), or
+//! - slice F + 1 has no valid configuration on any IK branch found (the redundancy joint locked
+//!   on a 0.05 rad grid, 4 seeds each, 40 random restarts, tracks from slice F), or
+//! - the **far-end search** is exhausted: once every node of slice F is expanded, a reverse
+//!   search starts from the valid set of slice F + 1 (the same IK sampling) along reversed
+//!   edges, never above F + 1, alternating with the forward search one node each. If it
+//!   exhausts without meeting a forward node (a configuration within the merge radius) and
+//!   without reaching s = 0 (every valid straight-rod configuration belongs to the start set's
+//!   components), no path from a start reaches slice F + 1, so F is final. A dead end behind a
+//!   small far piece is proven at the cost of that piece, not of the whole strip. If it meets
+//!   the forward piece, it is dropped and the forward search goes on.
+//!
+//! # Resolution (what the answer is exact at)
+//! - **Slices**: the rig's pose-path waypoints (`planner.max_end_step`,
+//!   `planner.max_end_angle`), [`slices`].
+//! - **Self-motion**: samples at most `planner.self_motion_step` (max-norm) apart along each
+//!   curve; two samples within 0.6 of that step in every joint are one node ([`graph`]).
+//! - **Roll** (`motor`): steps of [`linking::ROLL_STEP`].
+//! - **Edges** ([`linking`]): a load / back-off step is one minimum-norm track from a node to
+//!   the neighbouring slice; every edge within the joint-step bound, its end valid and its
+//!   joint-linear segment collision-free (checked every `planner.segment_check_step`).
+//!
+//! At this resolution the answer is exact for the graph these edges span: a ray called partial
+//! has no path in it (every node reachable from a start was expanded). A valid connection
+//! narrower than the resolution (a gap in a curve shorter than a step, a link between slices
+//! that no minimum-norm track from a sample finds) can be missed; the brute-force reference of
+//! the tests (every IK branch on a redundancy grid, from many restarts, flood-filled) bounds
+//! that on a sample of rays.
+//!
+//! # Moves
+//! - **Reconfiguration** (a move inside a slice: the rod end held) when
+//!   `planner.allow_reconfiguration`; always at s = 0, where the rod is not yet clamped.
+//! - **Back-off** (`planner.allow_backoff`): below s* the rod is stable and its shape depends
+//!   on s only, so the arm may drive back along the ray (phase `backoff`), reconfigure and drive
+//!   on. Past s* the path only moves forward. Forbidden, the search is monotone in s.
+//!
+//! # Monotone by construction
+//! - roll `motor` ⊇ `fixed`: a `motor` ray returns the farther of its `fixed` decision and its
+//!   own search;
+//! - more azimuths ⊇ fewer: [`Planner::plan_best`] keeps the best over the azimuths;
+//!
+//! Back-off allowed ⊇ forbidden holds for the reachable sets (every edge of the forbidden graph
+//! is an edge of the allowed one); the sampled nodes differ (merging depends on the order), so
+//! it is tested per direction rather than built in.
+//!
+//! # Bounds
+//! At most `planner.max_search_nodes` nodes per ray (≈ 112 bytes each); a search that needs
+//! more reports the ray `undecided` ([`ReachClass::Undecided`]) with the farthest s found, never
+//! a guessed class. A rig whose self-motion step would need more nodes than the bound to cover
+//! one slice is refused when the planner is made ([`check_resolution`]).
+//!
+//! # Cost
+//! A testable ray costs about one track and one collision test per slice; a partial ray costs
+//! its whole reachable piece (nodes × ≈ 5 tracks and collision tests). Figures: `docs/RESULTS.md`.
+
+pub(crate) mod graph;
+pub(crate) mod linking;
+pub(crate) mod path;
+pub(crate) mod slices;
+
+use crate::directions::Direction as RayDirection;
+use crate::error::{Error, Result};
+use crate::math::Real;
+use crate::planning::ladder::BlockCause;
+use crate::planning::planner::{Planner, RayPlan, ReachClass};
+use crate::planning::rig::{PlannerSettings, RollMode};
+use graph::{Direction, Graph, Node, Outcome, Rules, Via, MERGE_FRACTION, NODE_BYTES};
+use linking::{Config, Linker};
+use slices::Slices;
+
+/// Largest memory one ray's search may use (bytes): `planner.max_search_nodes` is refused
+/// above `MAX_SEARCH_BYTES / NODE_BYTES`.
+pub const MAX_SEARCH_BYTES: usize = 1 << 30;
+
+/// Redundancy-joint grid of the far-end slice's IK (rad).
+const LOCK_GRID: Real = 0.05;
+
+/// Random restarts of the far-end slice's IK.
+const CERT_RESTARTS: usize = 40;
+
+/// IK branches per slice assumed when sizing one slice's cover (a 6-DOF sub-chain has at most
+/// 16 solutions).
+const BRANCHES: Real = 16.0;
+
+/// Refuse settings whose memory bound is too large, or whose self-motion step is too fine for
+/// the node bound to cover one slice (16 closed curves of max-norm length 2π each, a node per
+/// 0.6 step). Errors name the setting.
+///
+/// ```
+/// use helixreach::planning::rig::PlannerSettings;
+/// use helixreach::planning::search::check_resolution;
+/// let mut p = PlannerSettings::default();
+/// assert!(check_resolution(&p, "rig").is_ok());
+/// p.self_motion_step = 1e-5;
+/// let e = check_resolution(&p, "rig").unwrap_err().to_string();
+/// assert!(e.contains("planner.self_motion_step"), "{e}");
+/// ```
+pub fn check_resolution(p: &PlannerSettings, source: &str) -> Result<()> {
+    let max_nodes = MAX_SEARCH_BYTES / NODE_BYTES;
+    if p.max_search_nodes > max_nodes {
+        return Err(Error::invalid(
+            format!("{source}: planner.max_search_nodes"),
+            p.max_search_nodes,
+            format!(
+                "needs {} MB per ray; at most {max_nodes} nodes ({} MB)",
+                (p.max_search_nodes * NODE_BYTES) >> 20,
+                MAX_SEARCH_BYTES >> 20
+            ),
+        ));
+    }
+    let cover = BRANCHES * std::f64::consts::TAU / (MERGE_FRACTION * p.self_motion_step);
+    if cover > p.max_search_nodes as Real {
+        return Err(Error::invalid(
+            format!("{source}: planner.self_motion_step"),
+            p.self_motion_step,
+            format!(
+                "one slice needs up to {cover:.0} nodes at this step, more than \
+                 planner.max_search_nodes = {}",
+                p.max_search_nodes
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn rank(c: ReachClass) -> u8 {
+    match c {
+        ReachClass::Testable => 3,
+        ReachClass::Undecided => 2,
+        ReachClass::Partial => 1,
+        ReachClass::Blocked => 0,
+    }
+}
+
+impl Planner {
+    /// The forward search, with the far-end certificate (module docs).
+    fn drive(
+        &self,
+        slices: &Slices,
+        linker: &mut Linker<'_>,
+        fwd: &mut Graph,
+        rules: &Rules,
+        roll: RollMode,
+        backoff_ok: &dyn Fn(u32) -> bool,
+    ) -> Result<Outcome> {
+        let last = (slices.len() - 1) as u32;
+        // The reverse search from the slice after the farthest one, and the farthest slices
+        // whose certificate failed (the reverse search met the forward piece).
+        let mut cert: Option<(u32, Graph)> = None;
+        let mut failed_at = u32::MAX;
+        loop {
+            if let Some(o) = fwd.step(linker, rules, last, Direction::Forward, backoff_ok) {
+                return Ok(o);
+            }
+            let f = fwd.farthest;
+            if let Some((cf, b)) = &cert {
+                let met = fwd
+                    .fresh
+                    .iter()
+                    .any(|&id| b.find(&fwd.nodes[id as usize].c).is_some());
+                if met {
+                    failed_at = *cf;
+                }
+                if met || f > *cf {
+                    cert = None;
+                }
+            }
+            if cert.is_none() && failed_at != f && fwd.top().is_some_and(|t| t < f) {
+                let mut b = Graph::new(slices.len(), self.dof, self.red_joint, fwd.merge_q());
+                for c in self.slice_configs(slices, linker, f + 1, roll, fwd)? {
+                    if b.find(&c).is_none() {
+                        b.insert(Node {
+                            c,
+                            parent: u32::MAX,
+                            via: Via::Start,
+                        });
+                    }
+                }
+                if b.nodes.is_empty() {
+                    // Slice f + 1 has no valid configuration: nothing passes it.
+                    return Ok(Outcome::Exhausted);
+                }
+                if b.nodes.iter().any(|n| fwd.find(&n.c).is_some()) {
+                    failed_at = f;
+                } else {
+                    cert = Some((f, b));
+                }
+            }
+            if let Some((cf, b)) = &mut cert {
+                let cap = *cf + 1;
+                match b.step(linker, rules, 0, Direction::Reverse { cap }, backoff_ok) {
+                    // Nothing of the forward piece reaches slice cap: its farthest is final.
+                    Some(Outcome::Exhausted) => return Ok(Outcome::Exhausted),
+                    Some(_) => {
+                        // Reached slice 0 (every valid straight-rod configuration is in the
+                        // start set's components) or hit the bound: no certificate here.
+                        failed_at = *cf;
+                        cert = None;
+                    }
+                    None => {
+                        if b.fresh
+                            .iter()
+                            .any(|&id| fwd.find(&b.nodes[id as usize].c).is_some())
+                        {
+                            failed_at = *cf;
+                            cert = None;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Valid configurations of slice `j` on every IK branch: the redundancy joint locked on a
+    /// grid of `LOCK_GRID` rad over its range (4 seeds each), `CERT_RESTARTS` random restarts,
+    /// and tracks from the forward nodes of slice j − 1; roll free in roll `motor`.
+    fn slice_configs(
+        &self,
+        slices: &Slices,
+        linker: &mut Linker<'_>,
+        j: u32,
+        roll: RollMode,
+        fwd: &Graph,
+    ) -> Result<Vec<Config>> {
+        let (lo, hi) = (self.model.lower(), self.model.upper());
+        let red = self.red_joint;
+        let redundant = self.dof == 7;
+        let n_lock = ((hi[red] - lo[red]) / LOCK_GRID).floor() as usize;
+        let params = crate::robot::IkParams {
+            redundancy_joint: redundant.then_some(red),
+            lock_values: if redundant {
+                (0..=n_lock)
+                    .map(|k| lo[red] + k as Real * LOCK_GRID)
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            lock_seeds: 4,
+            restarts: CERT_RESTARTS,
+            max_iterations: 60,
+            ..crate::robot::IkParams::default()
+        };
+        let solver = crate::robot::IkSolver::new(&self.model, params)?;
+        let base = slices.target(self, j as usize, 0.0);
+        let target = match roll {
+            RollMode::Fixed => base,
+            RollMode::Motor => base.free_roll(),
+        };
+        let seeds: Vec<&[Real]> = fwd
+            .nodes
+            .iter()
+            .filter(|n| n.c.slice + 1 == j)
+            .map(|n| &n.c.q[..self.dof])
+            .collect();
+        let w = &slices.wps[j as usize];
+        let mut out = Vec::new();
+        for sol in solver.solve_all(&target, &seeds) {
+            let q = sol.joints();
+            let psi = match roll {
+                RollMode::Fixed => 0.0,
+                RollMode::Motor => w.motor - self.motor_angle(w, q, roll, 0.0),
+            };
+            let c = Config {
+                slice: j,
+                q: crate::planning::planner::pad(q),
+                psi,
+            };
+            if linker.start_valid(&c) {
+                out.push(c);
+            }
+        }
+        Ok(out)
+    }
+
+    /// Decide one ray at one azimuth by the search (module docs): the path to
+    /// `s*·(1 + margin)`, or the certificate (the farthest s of the exhausted reachable piece),
+    /// or `undecided` at the node bound. Roll `motor` returns the farther of the `fixed`
+    /// decision and its own.
+    pub fn decide_ray(
+        &self,
+        dir: &RayDirection,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
+        let mut fixed = self.decide_in(dir, s_star, azimuth, RollMode::Fixed, want_path)?;
+        fixed.roll = roll;
+        if roll == RollMode::Fixed || fixed.class == ReachClass::Testable {
+            return Ok(fixed);
+        }
+        let native = self.decide_in(dir, s_star, azimuth, RollMode::Motor, want_path)?;
+        let better = (rank(native.class), native.s_reached) > (rank(fixed.class), fixed.s_reached);
+        Ok(if better { native } else { fixed })
+    }
+
+    fn decide_in(
+        &self,
+        dir: &RayDirection,
+        s_star: Real,
+        azimuth: Real,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
+        let slices = Slices::new(self, dir, s_star, azimuth)?;
+        let mut plan = RayPlan {
+            dir: *dir,
+            s_star,
+            s_end: slices.s_end,
+            s_reached: 0.0,
+            class: ReachClass::Blocked,
+            cause: None,
+            azimuth,
+            roll,
+            n_waypoints: slices.len(),
+            n_reached: 0,
+            reconfigurations: 0,
+            backoffs: 0,
+            search_nodes: 0,
+            start_samples: 0,
+            levels_gated: false,
+            path_cost: 0.0,
+            max_joint_step: 0.0,
+            path: None,
+            assumed_type: None,
+        };
+        let set = match self.start(roll) {
+            Ok(s) => s,
+            Err(c) => {
+                plan.cause = Some(c.dominant().unwrap_or(BlockCause::NoIk));
+                return Ok(plan);
+            }
+        };
+        let settings = &self.rig.planner;
+        let merge_q = MERGE_FRACTION * settings.self_motion_step;
+        let mut linker = Linker::new(self, &slices)?;
+        let mut graph = Graph::new(slices.len(), self.dof, self.red_joint, merge_q);
+        for n in set.comps.iter().flatten() {
+            let psi = match roll {
+                RollMode::Fixed => 0.0,
+                RollMode::Motor => -n.motor,
+            };
+            let c = Config {
+                slice: 0,
+                q: n.q,
+                psi,
+            };
+            if graph.find(&c).is_none() && linker.start_valid(&c) {
+                graph.insert(Node {
+                    c,
+                    parent: u32::MAX,
+                    via: Via::Start,
+                });
+            }
+        }
+        plan.start_samples = graph.nodes.len();
+        if graph.nodes.is_empty() {
+            plan.cause = Some(BlockCause::RodCollision);
+            return Ok(plan);
+        }
+        let rules = Rules {
+            reconfigure: settings.allow_reconfiguration,
+            backoff: settings.allow_backoff,
+            roll: roll == RollMode::Motor,
+            max_nodes: settings.max_search_nodes,
+        };
+        let last = (slices.len() - 1) as u32;
+        let s_star = slices.s_star;
+        let wps_s: Vec<Real> = slices.wps.iter().map(|w| w.s).collect();
+        let backoff_ok = move |i: u32| i > 0 && wps_s[i as usize] <= s_star;
+        let outcome = if graph.nodes.iter().any(|n| n.c.slice == last) {
+            Outcome::Reached(graph.nodes.len() as u32 - 1)
+        } else {
+            self.drive(&slices, &mut linker, &mut graph, &rules, roll, &backoff_ok)?
+        };
+        let end = match outcome {
+            Outcome::Reached(id) => id,
+            _ => graph
+                .nodes
+                .iter()
+                .position(|n| n.c.slice == graph.farthest)
+                .expect("the farthest slice has a node") as u32,
+        };
+        let ex = path::extract(self, &slices, &graph, &mut linker, end, want_path)?;
+        let far = graph.farthest as usize;
+        plan.s_reached = slices.wps[far].s;
+        plan.search_nodes = graph.nodes.len();
+        plan.n_reached = ex.slices;
+        plan.reconfigurations = ex.reconfigurations;
+        plan.backoffs = ex.backoffs;
+        plan.path_cost = ex.cost;
+        plan.max_joint_step = ex.max_joint_step;
+        plan.path = ex.points;
+        plan.class = match outcome {
+            Outcome::Reached(_) if s_star.is_finite() => ReachClass::Testable,
+            Outcome::Reached(_) => ReachClass::Partial,
+            Outcome::Bound => ReachClass::Undecided,
+            Outcome::Exhausted if far > 0 => ReachClass::Partial,
+            Outcome::Exhausted => ReachClass::Blocked,
+        };
+        if outcome == Outcome::Exhausted {
+            plan.cause = Some(
+                graph.causes[far]
+                    .dominant()
+                    .unwrap_or(BlockCause::Discontinuity),
+            );
+        }
+        Ok(plan)
+    }
+}

@@ -1,0 +1,400 @@
+//! The search of the valid set ([`helixreach::planning::search`], `planner.search = "exact"`):
+//!
+//! - a brute-force reference (every IK branch on a redundancy grid from many restarts at every
+//!   slice, flood fill with self-motion closure checked by bisection) agrees with it ray by ray;
+//! - monotone per direction: roll `motor` ⊇ `fixed`, more azimuths ⊇ fewer, a finer
+//!   self-motion step never reaches less, back-off allowed ⊇ forbidden;
+//! - its paths are valid (steps, poses, collisions, phases), a search that hits the node bound
+//!   is `undecided`, and a resolution the bound cannot hold is refused naming the setting.
+//!
+//! All on a coarse resolution of the seed rig (uniform slices, large steps) so that the
+//! reference runs in seconds.
+
+use helixreach::directions::{fibonacci, Direction};
+use helixreach::math::{Real, Vec3};
+use helixreach::planning::planner::{Planner, ReachClass};
+use helixreach::planning::pose_path::{pose_path, PoseMap, Ray, Spacing};
+use helixreach::planning::rig::{Rig, RollMode, SearchMethod};
+use helixreach::planning::trajectory::Phase;
+use helixreach::robot::{CollisionModel, IkParams, IkSolver, IkTarget, MAX_DOF};
+use rayon::prelude::*;
+
+fn s_star(d: &Direction) -> Real {
+    helixreach::boundary::continuum::critical_s(d, 1e-10)
+        .unwrap()
+        .s_star
+}
+
+/// The seed rig at a coarse resolution: `n` slices uniform in s, joint steps up to 0.3 rad,
+/// self-motion step `step`, margin 0.
+fn coarse_rig(n: usize, step: Real) -> Rig {
+    let mut rig = Rig::load("sawyer-seed").unwrap();
+    let p = &mut rig.planner;
+    p.search = SearchMethod::Exact;
+    p.margin = 0.0;
+    p.waypoints = n;
+    p.max_joint_step = 0.3;
+    p.self_motion_step = step;
+    p.segment_check_step = 0.05;
+    p.rod_capsules = 12;
+    rig
+}
+
+/// Brute-force reachability of one ray at azimuth 0, roll `fixed`, forward only (no back-off),
+/// reconfiguration allowed: the farthest slice reached. The slices are the rig's pose path; at
+/// each, every IK solution found with j0 locked on a `grid` rad grid (6 seeds each) and 60
+/// random restarts, seeded also with the previous slice's reachable set; a configuration is
+/// valid when collision-free against the slice's rod (capsules from the pose map's centerline).
+/// R₀ = every valid configuration of slice 0; R_{k+1} = valid configurations of slice k+1 within
+/// the step bound of R_k with a collision-free joint-linear segment, closed under self-motion:
+/// two configurations of a slice are joined when bisection (midpoints projected onto the held
+/// pose by IK, each valid and between its ends) splits them into pieces within the step bound,
+/// every piece's segment collision-free.
+fn brute_force_farthest(rig: &Rig, planner: &Planner, d: &Direction, grid: Real) -> usize {
+    let model = planner.model();
+    let dof = model.dof();
+    let step = rig.planner.max_joint_step;
+    let mut cm = CollisionModel::for_model(model).unwrap();
+    cm.set_obstacles(&rig.obstacles).unwrap();
+    let mut ws = cm.workspace();
+    let (lo, hi) = (model.lower(), model.upper());
+    let lock_values: Vec<Real> = {
+        let n = ((hi[0] - lo[0]) / grid).floor() as usize;
+        (0..=n).map(|i| lo[0] + i as Real * grid).collect()
+    };
+    let solver = IkSolver::new(
+        model,
+        IkParams {
+            redundancy_joint: Some(0),
+            lock_values,
+            restarts: 60,
+            lock_seeds: 6,
+            ..IkParams::default()
+        },
+    )
+    .unwrap();
+    let ray = Ray {
+        dir: [d.kappa, d.tau, d.omega],
+        azimuth: 0.0,
+    };
+    let s_end = s_star(d) * (1.0 + rig.planner.margin);
+    let wps = pose_path(rig, &ray, s_end, &Spacing::of(rig)).unwrap();
+    let map = PoseMap::new(rig, 0.0);
+    let dist = |a: &[Real], b: &[Real]| (0..dof).map(|j| (a[j] - b[j]).abs()).fold(0.0, Real::max);
+    let seg = rig.planner.segment_check_step;
+    let mut reach: Vec<Vec<Real>> = Vec::new();
+    for (k, w) in wps.iter().enumerate() {
+        let target = IkTarget::Pose(planner.tip_target(&w.tool));
+        let nodes: Vec<Vec3> = map.centerline(w.kto, rig.planner.rod_capsules).unwrap();
+        let rod = rig.rod_geometry(&nodes);
+        let mut valid = |q: &[Real]| cm.check(q, &mut ws, Some(&rod)).is_none();
+        let seeds: Vec<&[Real]> = reach.iter().map(|q| q.as_slice()).collect();
+        let cand: Vec<Vec<Real>> = solver
+            .solve_all(&target, &seeds)
+            .into_iter()
+            .map(|s| s.joints().to_vec())
+            .filter(|q| valid(q))
+            .collect();
+        let seg_ok = |a: &[Real], b: &[Real], valid: &mut dyn FnMut(&[Real]) -> bool| {
+            let n = (dist(a, b) / seg).ceil() as usize;
+            (1..n).all(|i| {
+                let t = i as Real / n as Real;
+                let q: Vec<Real> = (0..dof).map(|j| a[j] + t * (b[j] - a[j])).collect();
+                valid(&q)
+            })
+        };
+        let mut r: Vec<bool> = if k == 0 {
+            vec![true; cand.len()]
+        } else {
+            cand.iter()
+                .map(|q| {
+                    reach
+                        .iter()
+                        .any(|p| dist(p, q) <= step && seg_ok(p, q, &mut valid))
+                })
+                .collect()
+        };
+        let joined = |a: &[Real], b: &[Real], valid: &mut dyn FnMut(&[Real]) -> bool| -> bool {
+            let mut stack = vec![(a.to_vec(), b.to_vec(), 0u32)];
+            while let Some((x, y, depth)) = stack.pop() {
+                let dxy = dist(&x, &y);
+                if dxy <= step {
+                    if !seg_ok(&x, &y, valid) {
+                        return false;
+                    }
+                    continue;
+                }
+                if depth > 8 {
+                    return false;
+                }
+                let mid: Vec<Real> = (0..dof).map(|j| 0.5 * (x[j] + y[j])).collect();
+                let Some(m) = solver.track(&target, &mid, None) else {
+                    return false;
+                };
+                let m = m.joints().to_vec();
+                if !valid(&m) || dist(&m, &x) >= dxy || dist(&m, &y) >= dxy {
+                    return false;
+                }
+                stack.push((m.clone(), y, depth + 1));
+                stack.push((x, m, depth + 1));
+            }
+            true
+        };
+        loop {
+            let mut changed = false;
+            for i in 0..cand.len() {
+                if r[i] {
+                    continue;
+                }
+                let hit = (0..cand.len()).any(|j| {
+                    r[j] && dist(&cand[i], &cand[j]) <= 2.0 * grid.max(step)
+                        && joined(&cand[j], &cand[i], &mut valid)
+                });
+                if hit {
+                    r[i] = true;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        let next: Vec<Vec<Real>> = cand
+            .into_iter()
+            .zip(r)
+            .filter_map(|(q, ok)| ok.then_some(q))
+            .collect();
+        if next.is_empty() {
+            return k.saturating_sub(1);
+        }
+        assert!(next.iter().all(|q| q.len() == dof && dof <= MAX_DOF));
+        reach = next;
+    }
+    wps.len() - 1
+}
+
+/// The slice index of s on the ray's pose path.
+fn slice_of(rig: &Rig, d: &Direction, s: Real) -> usize {
+    let ray = Ray {
+        dir: [d.kappa, d.tau, d.omega],
+        azimuth: 0.0,
+    };
+    let wps = pose_path(
+        rig,
+        &ray,
+        s_star(d) * (1.0 + rig.planner.margin),
+        &Spacing::of(rig),
+    )
+    .unwrap();
+    wps.iter()
+        .position(|w| (w.s - s).abs() <= 1e-12 * s.max(1.0))
+        .expect("s_reached is a slice")
+}
+
+/// Search and brute force agree ray by ray (roll `fixed`, back-off forbidden): same class, and
+/// the search reaches at least the brute force's farthest slice (its self-motion closure is a
+/// walk along the curve; the reference's bisection between grid points can miss a joint near a
+/// fold of j0, so the reference may stop earlier, never later), on every 25th direction of the
+/// 200-direction quarter-sphere lattice, 24 slices each.
+#[test]
+fn search_agrees_with_the_brute_force_reference() {
+    let mut rig = coarse_rig(24, 0.05);
+    rig.planner.allow_backoff = false;
+    let planner = Planner::new(rig.clone()).unwrap();
+    let dirs: Vec<Direction> = fibonacci(200, true)
+        .unwrap()
+        .into_iter()
+        .step_by(25)
+        .collect();
+    let res: Vec<(usize, usize, ReachClass)> = dirs
+        .par_iter()
+        .map(|d| {
+            let p = planner
+                .plan_ray(d, s_star(d), 0.0, RollMode::Fixed, false)
+                .unwrap();
+            let b = brute_force_farthest(&rig, &planner, d, 0.1);
+            (slice_of(&rig, d, p.s_reached), b, p.class)
+        })
+        .collect();
+    let mut testable = 0;
+    for (d, (s, b, class)) in dirs.iter().zip(&res) {
+        eprintln!("{d:?}: search slice {s} ({class:?}), brute force {b}");
+        let b_testable = *b == 23;
+        assert_eq!(
+            *class == ReachClass::Testable,
+            b_testable,
+            "{d:?}: {s} vs {b}"
+        );
+        assert!(s >= b, "{d:?}: search {s}, brute force {b}");
+        testable += usize::from(b_testable);
+    }
+    assert!(
+        testable > 0 && testable < dirs.len(),
+        "{testable}: a sample with both classes"
+    );
+}
+
+/// Monotone per direction: roll `motor` ⊇ `fixed`; azimuths {0, π/2} ⊇ {0}; self-motion step
+/// 0.05 ⊇ 0.1 (finer never reaches less); back-off allowed ⊇ forbidden. On every 40th direction
+/// of the 200-direction quarter-sphere lattice, 24 slices.
+#[test]
+fn search_is_monotone_per_direction() {
+    let coarse = Planner::new(coarse_rig(24, 0.1)).unwrap();
+    let fine = Planner::new(coarse_rig(24, 0.05)).unwrap();
+    let mut no_back = coarse_rig(24, 0.1);
+    no_back.planner.allow_backoff = false;
+    let no_back = Planner::new(no_back).unwrap();
+    let dirs: Vec<Direction> = fibonacci(200, true)
+        .unwrap()
+        .into_iter()
+        .step_by(40)
+        .collect();
+    let rank = |c: ReachClass| match c {
+        ReachClass::Testable => 3,
+        ReachClass::Undecided => 2,
+        ReachClass::Partial => 1,
+        ReachClass::Blocked => 0,
+    };
+    dirs.par_iter().for_each(|d| {
+        let s = s_star(d);
+        let fixed = coarse.plan_ray(d, s, 0.0, RollMode::Fixed, false).unwrap();
+        let motor = coarse.plan_ray(d, s, 0.0, RollMode::Motor, false).unwrap();
+        let two = coarse
+            .plan_best(
+                d,
+                s,
+                &[0.0, std::f64::consts::FRAC_PI_2],
+                RollMode::Fixed,
+                false,
+            )
+            .unwrap();
+        let finer = fine.plan_ray(d, s, 0.0, RollMode::Fixed, false).unwrap();
+        let forbidden = no_back.plan_ray(d, s, 0.0, RollMode::Fixed, false).unwrap();
+        let ge = |a: &helixreach::planning::planner::RayPlan,
+                  b: &helixreach::planning::planner::RayPlan,
+                  what: &str| {
+            assert!(
+                rank(a.class) >= rank(b.class) && a.s_reached >= b.s_reached,
+                "{d:?} {what}: {:?} {} vs {:?} {}",
+                a.class,
+                a.s_reached,
+                b.class,
+                b.s_reached
+            );
+        };
+        ge(&motor, &fixed, "motor ⊇ fixed");
+        ge(&two, &fixed, "two azimuths ⊇ one");
+        ge(&finer, &fixed, "step 0.05 ⊇ 0.1");
+        ge(&fixed, &forbidden, "back-off ⊇ forbidden");
+    });
+}
+
+/// A testable ray's path: starts at s = 0 and ends at s_end; every step within the joint-step
+/// bound; every configuration holds its waypoint's pose (1e-9 m / rad) and is collision-free
+/// against its rod; reconfiguration points keep s; back-off points decrease s, only below s*;
+/// the trajectory's phases are those of the plan.
+#[test]
+fn search_paths_are_valid() {
+    let rig = coarse_rig(24, 0.1);
+    let planner = Planner::new(rig.clone()).unwrap();
+    let mut cm = CollisionModel::for_model(planner.model()).unwrap();
+    cm.set_obstacles(&rig.obstacles).unwrap();
+    let mut ws = cm.workspace();
+    let map = PoseMap::new(&rig, 0.0);
+    let mut checked = 0;
+    for d in fibonacci(200, true).unwrap().into_iter().step_by(20) {
+        let s = s_star(&d);
+        let plan = planner.plan_ray(&d, s, 0.0, RollMode::Fixed, true).unwrap();
+        if plan.class != ReachClass::Testable {
+            continue;
+        }
+        checked += 1;
+        let path = plan.path.as_ref().unwrap();
+        assert_eq!(path[0].waypoint.s, 0.0);
+        assert!((path.last().unwrap().waypoint.s - plan.s_end).abs() <= 1e-12 * plan.s_end);
+        for (k, p) in path.iter().enumerate() {
+            let target = IkTarget::Pose(planner.tip_target(&p.waypoint.tool));
+            let (dp, dr) = target.errors(&planner.model().chain().tool_pose(&p.q));
+            assert!(dp < 1e-9 && dr < 1e-9, "{d:?} point {k}: {dp:e} {dr:e}");
+            let nodes = map
+                .centerline(p.waypoint.kto, rig.planner.rod_capsules)
+                .unwrap();
+            assert!(cm
+                .check(&p.q, &mut ws, Some(&rig.rod_geometry(&nodes)))
+                .is_none());
+            if k == 0 {
+                continue;
+            }
+            let a = &path[k - 1];
+            let step = (0..p.q.len())
+                .map(|j| (p.q[j] - a.q[j]).abs())
+                .fold(0.0, Real::max);
+            assert!(
+                step <= rig.planner.max_joint_step + 1e-12,
+                "{d:?} {k}: {step}"
+            );
+            match p.phase {
+                Phase::Reconfigure => assert_eq!(p.waypoint.s, a.waypoint.s),
+                Phase::Backoff => {
+                    assert!(p.waypoint.s < a.waypoint.s && a.waypoint.s <= s);
+                }
+                Phase::Load => assert!(p.waypoint.s > a.waypoint.s),
+                other => panic!("{d:?}: phase {other:?} in a plan"),
+            }
+        }
+        let traj = planner.trajectory(&plan).unwrap();
+        let n_back = traj
+            .points
+            .iter()
+            .filter(|p| p.phase == Phase::Backoff)
+            .count();
+        assert_eq!(
+            n_back,
+            path.iter().filter(|p| p.phase == Phase::Backoff).count()
+        );
+    }
+    assert!(checked >= 3, "{checked} testable rays checked");
+}
+
+/// The node bound makes a ray `undecided`, never a guessed class; a self-motion step the bound
+/// cannot cover one slice at is refused, naming the setting.
+#[test]
+fn search_bounds_are_stated() {
+    let mut rig = coarse_rig(200, 0.1);
+    rig.planner.max_search_nodes = 1700;
+    let planner = Planner::new(rig.clone()).unwrap();
+    // A ray that needs more than 1,700 nodes: one that is not testable straight away.
+    let mut undecided = 0;
+    for d in fibonacci(200, true).unwrap().into_iter().step_by(25) {
+        let p = planner
+            .plan_ray(&d, s_star(&d), 0.0, RollMode::Fixed, false)
+            .unwrap();
+        assert!(p.search_nodes <= 1700);
+        if p.class == ReachClass::Undecided {
+            undecided += 1;
+            assert!(p.cause.is_none());
+        }
+    }
+    assert!(undecided > 0);
+    rig.planner.max_search_nodes = 1000;
+    rig.planner.self_motion_step = 0.01;
+    let e = Planner::new(rig).unwrap_err().to_string();
+    assert!(e.contains("planner.self_motion_step"), "{e}");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+    let text = std::fs::read_to_string(dir.join("sawyer-seed.toml")).unwrap();
+    let bad = text.replacen("[planner]\n", "[planner]\nsearch = \"exhaustive\"\n", 1);
+    let e = Rig::from_toml_str(&bad, "t.toml", &dir)
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("planner.search") && e.contains("exhaustive"),
+        "{e}"
+    );
+    let good = text.replacen("[planner]\n", "[planner]\nsearch = \"exact\"\n", 1);
+    let rig = Rig::from_toml_str(&good, "t.toml", &dir).unwrap();
+    assert_eq!(rig.planner.search, SearchMethod::Exact);
+    // Written back and read again, the setting survives.
+    let again = Rig::from_toml_str(&rig.to_toml().unwrap(), "t2.toml", &dir).unwrap();
+    assert_eq!(again.planner.search, SearchMethod::Exact);
+}
