@@ -144,7 +144,7 @@ fn main() -> anyhow::Result<()> {
                 let o = RigOverrides {
                     margin: Some(margin),
                     clamp: Some(k.map(|x| x as Real * 1e-6)),
-                    allow_reconfiguration: None,
+                    ..Default::default()
                 };
                 Ok((k, Planner::new(o.apply(&rig)?)?))
             })

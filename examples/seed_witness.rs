@@ -38,7 +38,7 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
     let o = RigOverrides {
         margin: Some(0.0),
         clamp: Some(run.clamp),
-        allow_reconfiguration: None,
+        ..Default::default()
     };
     let rig = o.apply(base)?;
     let planner = Planner::new(rig.clone())?;
@@ -284,7 +284,7 @@ fn levels(run: &Run, base: &Rig, ds: &[usize]) -> anyhow::Result<String> {
         let mut rig = RigOverrides {
             margin: Some(0.0),
             clamp: Some(run.clamp),
-            allow_reconfiguration: None,
+            ..Default::default()
         }
         .apply(base)?;
         rig.planner.dense_samples = d;

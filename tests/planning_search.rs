@@ -382,7 +382,7 @@ fn search_bounds_are_stated() {
     assert!(e.contains("planner.self_motion_step"), "{e}");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
     let text = std::fs::read_to_string(dir.join("sawyer-seed.toml")).unwrap();
-    let bad = text.replacen("[planner]\n", "[planner]\nsearch = \"exhaustive\"\n", 1);
+    let bad = text.replacen("search = \"ladder\"", "search = \"exhaustive\"", 1);
     let e = Rig::from_toml_str(&bad, "t.toml", &dir)
         .map(|_| ())
         .unwrap_err()
@@ -391,7 +391,7 @@ fn search_bounds_are_stated() {
         e.contains("planner.search") && e.contains("exhaustive"),
         "{e}"
     );
-    let good = text.replacen("[planner]\n", "[planner]\nsearch = \"exact\"\n", 1);
+    let good = text.replacen("search = \"ladder\"", "search = \"exact\"", 1);
     let rig = Rig::from_toml_str(&good, "t.toml", &dir).unwrap();
     assert_eq!(rig.planner.search, SearchMethod::Exact);
     // Written back and read again, the setting survives.

@@ -59,7 +59,7 @@ fn planners_by_clamp(runs: &[SeedRun], margin: Real) -> BTreeMap<[i64; 3], Plann
                     k[1] as Real * 1e-6,
                     k[2] as Real * 1e-6,
                 ]),
-                allow_reconfiguration: None,
+                ..Default::default()
             };
             (k, Planner::new(o.apply(&rig).unwrap()).unwrap())
         })

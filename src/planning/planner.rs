@@ -275,7 +275,7 @@ pub struct RayPlan {
 }
 
 /// Overrides of a rig's settings, as `plan` and `reach` take them on the command line
-/// (`--margin`, `--clamp`, `--no-reconfiguration`).
+/// (`--margin`, `--clamp`, `--no-reconfiguration`, `--search`, `--no-backoff`).
 ///
 /// ```
 /// use helixreach::planning::{planner::RigOverrides, rig::Rig};
@@ -297,6 +297,10 @@ pub struct RigOverrides {
     pub clamp: Option<[Real; 3]>,
     /// `planner.allow_reconfiguration`.
     pub allow_reconfiguration: Option<bool>,
+    /// `planner.search`.
+    pub search: Option<SearchMethod>,
+    /// `planner.allow_backoff`.
+    pub allow_backoff: Option<bool>,
 }
 
 impl RigOverrides {
@@ -314,6 +318,12 @@ impl RigOverrides {
         }
         if let Some(a) = self.allow_reconfiguration {
             rig.planner.allow_reconfiguration = a;
+        }
+        if let Some(m) = self.search {
+            rig.planner.search = m;
+        }
+        if let Some(a) = self.allow_backoff {
+            rig.planner.allow_backoff = a;
         }
         Ok(rig)
     }

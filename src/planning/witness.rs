@@ -31,7 +31,7 @@
 //! let seed = std::path::Path::new("../shared/seed-data");
 //! let runs = witness::read_seed_runs(&seed.join("trajectories.csv"))?;
 //! let r = &runs[0];
-//! let rig = RigOverrides { margin: Some(0.0), clamp: Some(r.clamp), allow_reconfiguration: None }
+//! let rig = RigOverrides { margin: Some(0.0), clamp: Some(r.clamp), ..Default::default() }
 //!     .apply(&Rig::load("sawyer-seed")?)?;
 //! let planner = Planner::new(rig)?;
 //! let w = witness::witness(&planner, &seed.join("trajectories").join(&r.file), &r.dir)?;

@@ -408,6 +408,7 @@ mod tests {
             path_cost: 8.5,
             max_joint_step: 0.05,
             reconfigurations: 0,
+            backoffs: 0,
             bifurcation: "any",
         });
     }

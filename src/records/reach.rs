@@ -20,7 +20,7 @@ pub struct ReachRecord {
     /// Farthest s the planner reached.
     #[serde(serialize_with = "csv_out::real")]
     pub s_reached: Real,
-    /// `testable`, `partial` or `blocked` ([`crate::planning::planner::ReachClass`]).
+    /// `testable`, `partial`, `blocked` or `undecided` ([`crate::planning::planner::ReachClass`]).
     pub class: &'static str,
     /// Blocking cause ([`crate::planning::ladder::BlockCause`]); empty for testable rays.
     pub cause: &'static str,
@@ -39,6 +39,8 @@ pub struct ReachRecord {
     pub max_joint_step: Real,
     /// Self-motion reconfigurations at a held pose.
     pub reconfigurations: usize,
+    /// Back-offs on the path (phase `backoff`; [`crate::planning::search`]).
+    pub backoffs: usize,
     /// The bifurcation type the margin was chosen for, or `any`.
     pub bifurcation: &'static str,
 }
@@ -58,6 +60,7 @@ impl CsvRecord for ReachRecord {
         "path_cost",
         "max_joint_step",
         "reconfigurations",
+        "backoffs",
         "bifurcation",
     ];
 }
@@ -76,6 +79,7 @@ impl From<&RayPlan> for ReachRecord {
             path_cost: p.path_cost,
             max_joint_step: p.max_joint_step,
             reconfigurations: p.reconfigurations,
+            backoffs: p.backoffs,
             bifurcation: p.assumed_type.map_or("any", |t| t.name()),
         }
     }

@@ -5,7 +5,8 @@
 //! checkpointed, resumable, shardable, atomic output.
 //!
 //! Columns: [`REACH_HEADER`] (`reconfigurations`: self-motion reconfigurations at a held pose on
-//! the path, see [`crate::planning::planner`]; `bifurcation`: the bifurcation type the margin
+//! the path, see [`crate::planning::planner`]; `backoffs`: drives back along the ray below s* on
+//! the path, see [`crate::planning::search`]; `bifurcation`: the bifurcation type the margin
 //! past s* was chosen for, `any` when the rig's margin does not depend on it — otherwise the
 //! type of [`crate::bifurcation::planning_type`], see
 //! [`crate::planning::rig::PlannerSettings::margin_for`]). An unreachable direction is a `blocked` row with its cause, never an

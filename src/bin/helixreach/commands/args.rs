@@ -82,6 +82,14 @@ pub struct RigOverrideArgs {
     /// `planner.allow_reconfiguration`).
     #[arg(long)]
     pub no_reconfiguration: bool,
+    /// How each ray is decided: `ladder` or `exact` (the search of the valid set; overrides the
+    /// rig's `planner.search`).
+    #[arg(long)]
+    pub search: Option<String>,
+    /// Forbid driving back along the ray to reconfigure (the `exact` search; overrides the rig's
+    /// `planner.allow_backoff`).
+    #[arg(long)]
+    pub no_backoff: bool,
 }
 
 impl RigOverrideArgs {
@@ -95,6 +103,12 @@ impl RigOverrideArgs {
                 .map(|c| helixreach::planning::rig::parse_xyz("--clamp", c))
                 .transpose()?,
             allow_reconfiguration: self.no_reconfiguration.then_some(false),
+            search: self
+                .search
+                .as_deref()
+                .map(|s| s.parse().map_err(|e| anyhow::anyhow!("--search: {e}")))
+                .transpose()?,
+            allow_backoff: self.no_backoff.then_some(false),
         };
         o.apply(rig)
             .map_err(|e| anyhow::anyhow!("--margin / --clamp: {e}"))

@@ -135,7 +135,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     eprintln!(
         "{}: s* = {}, s_reached = {} of {} (bifurcation assumed: {assumed}) ({} of {} waypoints), \
-         cause {}, azimuth {}, roll {}, {} reconfigurations, cost {:.4}, max joint step {:.4} rad, \
+         cause {}, azimuth {}, roll {}, {} reconfigurations, {} back-offs, cost {:.4}, max joint step {:.4} rad, \
          duration {:.1} s (load, hold, unload); planned in {:.3} s",
         plan.class.as_str(),
         plan.s_star,
@@ -147,6 +147,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         plan.azimuth,
         plan.roll,
         plan.reconfigurations,
+        plan.backoffs,
         plan.path_cost,
         plan.max_joint_step,
         traj.duration(),
