@@ -398,3 +398,37 @@ fn search_bounds_are_stated() {
     let again = Rig::from_toml_str(&rig.to_toml().unwrap(), "t2.toml", &dir).unwrap();
     assert_eq!(again.planner.search, SearchMethod::Exact);
 }
+
+/// A pose path cut by `planner.max_waypoints` (here 10) ends before s*·(1 + margin): the search
+/// never calls such a ray testable (its path would end there), it is partial with cause
+/// `waypoint_limit`.
+#[test]
+fn search_never_calls_a_cut_ray_testable() {
+    use helixreach::planning::ladder::BlockCause;
+    let mut rig = Rig::load("sawyer-seed").unwrap();
+    rig.planner.search = SearchMethod::Exact;
+    rig.planner.max_waypoints = 10;
+    let planner = Planner::new(rig).unwrap();
+    let mut cut = 0;
+    for d in fibonacci(6, true).unwrap() {
+        let s = s_star(&d);
+        let plan = planner
+            .plan_ray(&d, s, 0.0, RollMode::Fixed, false)
+            .unwrap();
+        let last = plan
+            .path
+            .as_ref()
+            .map_or(plan.s_reached, |p| p.last().unwrap().waypoint.s);
+        assert!(
+            plan.class != ReachClass::Testable || last >= plan.s_end,
+            "{d:?}: testable at {last} < {}",
+            plan.s_end
+        );
+        if plan.cause == Some(BlockCause::WaypointLimit) {
+            assert_eq!(plan.class, ReachClass::Partial);
+            assert!(plan.s_reached < plan.s_end);
+            cut += 1;
+        }
+    }
+    assert!(cut > 0, "no ray reported the waypoint limit");
+}

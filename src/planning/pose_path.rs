@@ -136,7 +136,13 @@ pub fn pose_path(rig: &Rig, ray: &Ray, s_end: Real, sp: &Spacing) -> Result<Vec<
     if sp.waypoints >= 2 {
         let n = sp.waypoints.min(sp.max_waypoints);
         for i in 1..n {
-            out.push(at(s_end * i as Real / (n - 1) as Real)?);
+            // The last waypoint is s_end itself (s_end·i/(n − 1) can round below it).
+            let s = if i + 1 == n {
+                s_end
+            } else {
+                s_end * i as Real / (n - 1) as Real
+            };
+            out.push(at(s)?);
         }
         return Ok(out);
     }

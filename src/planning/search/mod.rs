@@ -414,6 +414,13 @@ impl Planner {
             Outcome::Exhausted if far > 0 => ReachClass::Partial,
             Outcome::Exhausted => ReachClass::Blocked,
         };
+        // A pose path cut short by `planner.max_waypoints` ends before s_end: its last slice
+        // is not the ray's end, so reaching it is not testable.
+        let cut = slices.wps.last().is_some_and(|w| w.s < slices.s_end);
+        if cut && matches!(outcome, Outcome::Reached(_)) {
+            plan.class = ReachClass::Partial;
+            plan.cause = Some(BlockCause::WaypointLimit);
+        }
         if outcome == Outcome::Exhausted {
             plan.cause = Some(
                 graph.causes[far]
