@@ -13,7 +13,10 @@
 //!
 //! # Input
 //! [`read_measured`] reads a CSV with exactly the columns `dir_kappa,dir_tau,dir_omega,s_measured`
-//! (any order; an unknown column is an error, so a misspelt column is never silently ignored).
+//! (any order; an unknown column is an error, so a misspelt column is never silently ignored),
+//! or the output of `helixreach detect --runs` (those four and the other columns of
+//! [`DetectRunRecord`](crate::records::detect::DetectRunRecord)), whose rows with an empty
+//! `s_measured` (no snap seen) are skipped with one note.
 //! Every value must be finite, `s_measured > 0`, κ̂ ≥ 0. A direction that is not a unit vector
 //! is normalized and a note is returned (the caller prints it), as `helixreach boundary` does.
 //! Boundary values are matched to measured directions by direction (largest component
@@ -76,8 +79,13 @@ pub fn read_measured(path: &Path) -> Result<MeasuredSet> {
         Ok(h) => h.iter().map(str::to_string).collect(),
         Err(e) => return Err(t.file_error(e.to_string())),
     };
+    use crate::records::csv_out::CsvRecord;
+    let detect_columns = crate::records::detect::DetectRunRecord::HEADER;
+    let is_detect = headers.iter().any(|h| h == "reason");
     for h in &headers {
-        if !MEASURED_COLUMNS.contains(&h.as_str()) {
+        if !(MEASURED_COLUMNS.contains(&h.as_str())
+            || (is_detect && detect_columns.contains(&h.as_str())))
+        {
             return Err(t.file_error(format!(
                 "unknown column `{h}` (expected exactly {})",
                 MEASURED_COLUMNS.join(",")
@@ -93,9 +101,14 @@ pub fn read_measured(path: &Path) -> Result<MeasuredSet> {
     ];
     let mut rows = Vec::new();
     let mut notes = Vec::new();
+    let mut no_snap = 0;
     for (k, rec) in t.reader.records().enumerate() {
-        let line = k + 2;
-        let rec = rec.map_err(|e| bad_line(path, line, "record", e.to_string()))?;
+        let rec = rec.map_err(|e| bad_line(path, k + 2, "record", e.to_string()))?;
+        let line = crate::io::line_of(&rec, k + 2);
+        if is_detect && rec.get(cols[3]).is_some_and(str::is_empty) {
+            no_snap += 1;
+            continue;
+        }
         let mut v = [0.0; 4];
         for (i, (&c, name)) in cols.iter().zip(MEASURED_COLUMNS).enumerate() {
             let x = parse_field(path, line, &rec, c, name)?;
@@ -129,6 +142,12 @@ pub fn read_measured(path: &Path) -> Result<MeasuredSet> {
             s_measured: v[3],
             line,
         });
+    }
+    if no_snap > 0 {
+        notes.push(format!(
+            "{}: {no_snap} runs without a snap (empty s_measured) skipped",
+            path.display()
+        ));
     }
     if rows.is_empty() {
         return Err(Error::File {

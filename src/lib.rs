@@ -22,6 +22,7 @@
 //! | [`rod`] | Discrete Elastic Rods: energies, gradients, Hessians, statics, dynamics |
 //! | [`bifurcation`] | snap or gradual departure at s*: Koiter coefficient from DER statics, static return on unloading |
 //! | [`compare`] | measured versus simulated boundaries (the paper's err per direction and its statistics) |
+//! | [`detect`] | the snap from a recorded run (joints + tracked marker): s by projection, clamp, camera extrinsics and marker arc length, e, jump, streaming |
 //! | [`boundary`] | the stability boundary along rays: continuum conjugate points and DER statics |
 //! | [`robot`] | URDF robots: compiled kinematics, IK, collision |
 //! | [`planning`] | rig files, pose paths, ladder graph, trajectories |
@@ -45,6 +46,7 @@ pub mod bifurcation;
 pub mod boundary;
 pub mod compare;
 pub mod cpu_time;
+pub mod detect;
 pub mod directions;
 pub mod error;
 pub mod experiment;

@@ -9,6 +9,7 @@
 //! | equal-area map of search directions by class and cause | [`direction_map::render`] | [`ReachRow`] (+ marked [`Direction`]s) |
 //! | the ω = 0 section, boundary curve with the reachable part | [`section::render`] | [`BoundaryRow`] (+ [`ReachRow`]) |
 //! | helix error e versus ‖S‖ (DER dynamics) | [`error_vs_s::render`] | [`Series`] |
+//! | snap detection of a recorded run: e versus s, loading and unloading, s*, snap, return | [`detection::render`] | [`records::detect::SamplePoint`] |
 //! | speed versus error of boundary methods (log-log) | [`speed_error::render`] | [`SpeedErrorRow`] |
 //! | bifurcation type over the directions, with the hysteresis width and labelled runs | [`bifurcation_map::render`] | [`bifurcation_map::BifurcationRow`] |
 //! | measured snap points (and mirror images) on the boundary: views along each axis, ω = 0 section | [`comparison::render`] | [`BoundaryRow`] + measured points |
@@ -40,6 +41,7 @@
 pub mod bifurcation_map;
 pub mod boundary3d;
 pub mod comparison;
+pub mod detection;
 pub mod direction_map;
 pub mod error_vs_s;
 pub mod layout_coverage;

@@ -22,6 +22,7 @@ pub mod check;
 pub mod clamp_runs;
 pub mod compare;
 pub mod csv_out;
+pub mod detect;
 pub mod disturbances;
 pub mod helix_points;
 pub mod ik;

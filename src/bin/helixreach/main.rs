@@ -28,6 +28,8 @@ enum Command {
     Bifurcation(commands::bifurcation::Args),
     /// Measured snap points versus a simulated boundary (the paper's err per direction).
     Compare(commands::compare::Args),
+    /// The snap from a recorded run (joints + tracked marker), or a batch of runs.
+    Detect(commands::detect::Args),
     /// DER dynamics: drive the rod along one ray at finite speed.
     Simulate(commands::simulate::Args),
     /// The seed paper's disturbance study (its Fig. 5).
@@ -77,6 +79,7 @@ fn main() -> ExitCode {
         Command::Boundary(a) => commands::boundary::run(a),
         Command::Bifurcation(a) => commands::bifurcation::run(a),
         Command::Compare(a) => commands::compare::run(a),
+        Command::Detect(a) => commands::detect::run(a),
         Command::Simulate(a) => commands::simulate::run(a),
         Command::Disturbances(a) => commands::disturbances::run(a),
         Command::Fk(a) => commands::fk::run(a),

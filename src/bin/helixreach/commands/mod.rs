@@ -6,6 +6,7 @@ pub mod boundary;
 pub mod check;
 pub mod compare;
 pub mod demo;
+pub mod detect;
 pub mod disturbances;
 pub mod fk;
 pub mod helix;

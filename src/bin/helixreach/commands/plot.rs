@@ -29,6 +29,10 @@ pub enum Kind {
     /// Measured snap points and mirror images on the boundary, views along each axis and the
     /// ω = 0 section (input: boundary CSV; input2: measured CSV, required).
     Comparison,
+    /// Snap detection of one recorded run: e versus s, loading and unloading (input: the
+    /// per-sample CSV of `detect --out`; input2: its JSON summary, for s*, the snap and the
+    /// return).
+    Detection,
 }
 
 /// Arguments of `helixreach plot`.
@@ -150,6 +154,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .map(|r| (r.dir, r.s_measured))
                 .collect();
             plot::comparison::render(&plot::read_boundary(input)?, &measured, &args.out)
+        }
+        Kind::Detection => {
+            let mut marks = plot::detection::Marks::default();
+            if let Some(p) = &args.input2 {
+                let text = std::fs::read_to_string(p)
+                    .with_context(|| format!("reading {}", p.display()))?;
+                let v: serde_json::Value = serde_json::from_str(&text)
+                    .with_context(|| format!("{}: not a detect JSON summary", p.display()))?;
+                marks.s_predicted = v["s_predicted"].as_f64();
+                marks.s_snap = v["s_snap"].as_f64();
+                marks.s_return = v["s_return"].as_f64();
+            }
+            plot::detection::render(
+                &helixreach::records::detect::read_detect_samples(input)?,
+                &marks,
+                &args.out,
+            )
         }
     }
     .with_context(what)?;
