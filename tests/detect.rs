@@ -9,7 +9,7 @@ use helixreach::detect::observations::OUTLIER_HALF_WINDOW;
 use helixreach::detect::stream::{StreamEvent, StreamingDetector};
 use helixreach::detect::{projection, DetectOptions, Detector};
 use helixreach::directions::Direction;
-use helixreach::math::{so3_exp, Mat3, Real, Vec3};
+use helixreach::math::{rotation_angle, so3_exp, Mat3, Real, Vec3};
 use helixreach::planning::rig::Rig;
 use helixreach::records::detect::{parse_observations, ObservationFile};
 use rand::{Rng, SeedableRng};
@@ -142,13 +142,14 @@ fn synthetic_jump_is_recovered_with_the_unknowns() {
     let x = &d.extrinsics;
     // Tolerances: 1 mm marker noise on ~1,500 fit samples; σ is identified by how the marker's
     // path curls (a 0.05 change of σ moves the fit residual well above the noise).
+    // The fit samples span s ≤ 0.6·s*: the marker moves ≈ 0.1 m, so 1 mm of noise leaves
+    // ≈ 1 mrad of rotation and ≈ 1 mm of translation; tolerances 5 mrad and 3 mm.
+    let angle =
+        rotation_angle(&(x.camera_to_base.rotation.transpose() * p.camera_to_base.rotation));
+    let dt = (x.camera_to_base.translation - p.camera_to_base.translation).norm();
     assert!(
-        (x.camera_to_base.rotation - p.camera_to_base.rotation).norm() < 2e-3,
-        "{x:?}"
-    );
-    assert!(
-        (x.camera_to_base.translation - p.camera_to_base.translation).norm() < 2e-3,
-        "{x:?}"
+        angle < 5e-3 && dt < 3e-3,
+        "rotation {angle} rad, translation {dt} m: {x:?}"
     );
     assert!((x.sigma - p.sigma).abs() < 0.01, "sigma {}", x.sigma);
     assert!(
@@ -321,11 +322,12 @@ fn seed_runs_agree_with_the_labels() {
             d.extrinsics.sigma > 0.3 && d.extrinsics.sigma < 0.7,
             "{name}"
         );
-        // The clamp fitted from the joints: within 3 mm of the seed's (which was fitted to the
-        // end frames of a 100-edge discrete helix, ≈ 3 mm from the continuum end), same snap.
+        // The clamp fitted from the joints: within 5 mm of the seed's (which was fitted to the
+        // end frames of a 100-edge discrete helix, ≈ 3 mm from the continuum end frame this fit
+        // uses, and rounded to whole millimetres), and the same snap.
         let f = det.detect(&seed_run(name), &dir, None).unwrap();
         assert!(
-            (f.clamp - Vec3::from(CLAMP)).norm() < 3e-3,
+            (f.clamp - Vec3::from(CLAMP)).norm() < 5e-3,
             "{name}: {:?}",
             f.clamp
         );
