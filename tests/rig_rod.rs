@@ -283,3 +283,49 @@ fn centerline_at_small_s_is_the_exact_helix_at_the_rigs_clamp() {
     let last = rows.iter().find(|r| r["node"] == ns).unwrap();
     assert_eq!(last["tx"], "");
 }
+
+#[test]
+fn rod_reports_the_gravito_bending_ratio_of_the_rigs_rod() {
+    let out = cli(&["rod", "--rig", "sawyer-seed"]);
+    ok(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // The seed rig's nitinol rod, by the formula written out here: h = 1.5875/2 mm.
+    let (h, e, rho, g, l): (f64, f64, f64, f64, f64) = (0.79375e-3, 67.5e9, 6450.0, 9.81, 0.51);
+    let ratio = (h * h * e / (8.0 * rho * g)).cbrt() / l;
+    let a = &v["assessment"];
+    assert!((a["lgb_over_l"].as_f64().unwrap() - ratio).abs() < 1e-12 * ratio);
+    let w = a["weight_per_length"].as_f64().unwrap();
+    assert!((w - 0.5 / ratio.powi(3)).abs() < 1e-12 * w);
+    // 0.86: above the seed's 0.6, below the measured threshold.
+    assert_eq!(a["negligible"], false);
+    assert_eq!(
+        v["clamp"]["orientation"]
+            .as_str()
+            .unwrap()
+            .split(' ')
+            .nth(1),
+        Some("up")
+    );
+    // A rig holding the rod horizontally, and a rod stiff enough for gravity to be negligible.
+    let dir = tempfile::tempdir().unwrap();
+    let text = seed_rig_with_rod(GOOD_ROD)
+        .replace("d1 = [0.0, 1.0, 0.0]", "d1 = [0.0, 0.0, 1.0]")
+        .replace("d3 = [0.0, 0.0, 1.0]", "d3 = [1.0, 0.0, 0.0]");
+    let p = write_rig(dir.path(), "h.toml", &text);
+    let out = cli(&["rod", "--rig", p.to_str().unwrap(), "--g", "1e-3"]);
+    ok(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        v["clamp"]["orientation"]
+            .as_str()
+            .unwrap()
+            .split(' ')
+            .nth(1),
+        Some("horizontal")
+    );
+    assert_eq!(v["assessment"]["negligible"], true);
+    // Bad input: a clear error naming the flag's field.
+    let out = cli(&["rod", "--preset", "nitinol", "--density", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("density"));
+}

@@ -10,6 +10,7 @@
 //! | [`clamp`] | clamped boundary conditions from an end pose (fixed or time-varying) |
 //! | [`statics`] | Newton equilibrium on the free DOFs and the stability (inertia) test |
 //! | [`inextensible`] | the same for the inextensible rod: Newton on the banded KKT system, stability from its inertia |
+//! | [`gravity`] | when gravity matters: the gravito-bending length ratio and the criteria |
 //! | [`workspace`] | [`Workspace`]: every buffer a Newton iteration needs, sized once per rod |
 //!
 //! # DOF order and bandwidth
@@ -27,6 +28,7 @@ pub mod banded;
 pub mod clamp;
 pub mod dynamics;
 pub mod energy;
+pub mod gravity;
 pub mod inextensible;
 pub mod params;
 pub mod state;

@@ -32,6 +32,8 @@ enum Command {
     Detect(commands::detect::Args),
     /// DER dynamics: drive the rod along one ray at finite speed.
     Simulate(commands::simulate::Args),
+    /// A rig's rod and whether gravity matters for it (L_gb/L), as JSON.
+    Rod(commands::rod::Args),
     /// The seed paper's disturbance study (its Fig. 5).
     Disturbances(commands::disturbances::Args),
     /// Forward kinematics of a URDF robot.
@@ -81,6 +83,7 @@ fn main() -> ExitCode {
         Command::Compare(a) => commands::compare::run(a),
         Command::Detect(a) => commands::detect::run(a),
         Command::Simulate(a) => commands::simulate::run(a),
+        Command::Rod(a) => commands::rod::run(a),
         Command::Disturbances(a) => commands::disturbances::run(a),
         Command::Fk(a) => commands::fk::run(a),
         Command::Ik(a) => commands::ik::run(a),

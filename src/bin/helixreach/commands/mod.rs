@@ -18,6 +18,7 @@ pub mod plot;
 pub mod reach;
 pub mod render;
 pub mod robot;
+pub mod rod;
 pub mod rod_args;
 pub mod simulate;
 
