@@ -9,7 +9,7 @@ mod common;
 use common::seed_dir;
 use helixreach::directions::Direction;
 use helixreach::planning::check::{
-    CheckOptions, CheckReport, Checker, JointFile, JUMP, SEED_HELD_EDGES,
+    CheckOptions, CheckReport, Checker, Finding, JointFile, JUMP, SEED_HELD_EDGES,
 };
 use helixreach::planning::rig::Rig;
 use std::path::Path;
@@ -66,6 +66,10 @@ fn runs() -> Vec<Run> {
 }
 
 fn check_run(base: &Checker, run: &Run, held_edges: usize) -> CheckReport {
+    check_run_opts(base, run, held_edges, JUMP)
+}
+
+fn check_run_opts(base: &Checker, run: &Run, held_edges: usize, max_step: f64) -> CheckReport {
     let rig = base.rig().with_clamp_origin(run.clamp).unwrap();
     let checker = base.with_rig(rig).unwrap();
     let traj = checker
@@ -74,6 +78,7 @@ fn check_run(base: &Checker, run: &Run, held_edges: usize) -> CheckReport {
     let opt = CheckOptions {
         direction: Some(Direction::new(1.0, run.c1, run.c2).unwrap()),
         held_edges,
+        max_step,
         ..CheckOptions::default()
     };
     checker.check(&traj, &opt).unwrap()
@@ -121,6 +126,14 @@ fn every_seed_trajectory_passes_the_seed_rig() {
             "{f}: s {s} vs {}",
             run.s_end
         );
+        // The gate: the executed Descartes jumps (up to 1.63 rad) are steps over the default
+        // bound and nothing else; with a 2 rad step bound the file passes the whole gate.
+        assert_eq!(rep.segment_collisions, 0, "{f}");
+        let steps = rep.finding_mask();
+        assert!(steps == 0 || steps == Finding::Step as u8, "{f}: {steps}");
+        assert_eq!(steps == 0, run.max_step <= JUMP, "{f}");
+        let rep2 = check_run_opts(&base, run, SEED_HELD_EDGES, 2.0);
+        assert_eq!(rep2.finding_mask(), 0, "{f}: {:?}", rep2.findings());
     }
     eprintln!("58/58 pass; worst pose error {worst_p:.3e} m, {worst_r:.3e} rad");
 }
@@ -305,6 +318,7 @@ fn cli_end_to_end_on_a_seed_trajectory() {
         &clamp,
         "--out",
         rows.to_str().unwrap(),
+        "--report-only",
     ]);
     assert!(
         out.status.success(),
@@ -387,10 +401,11 @@ fn cli_bad_input_exits_2_with_file_line_and_value() {
             assert!(err.contains(w), "{args:?}: `{w}` not in {err}");
         }
     }
-    // A file that runs: exit 0 even when it fails the check (here: a joint past its limit).
+    // A file that runs but fails the check (here: a joint past its limit): the gate's exit
+    // code 64 + 1, the report on stdout all the same.
     let over = write("over.txt", "0 -1 0 1.5 0 -0.5 9\n");
     let out = cli(&["check", "--joints", &over]);
-    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(out.status.code(), Some(65));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["limit_violations"], 1);
     assert!(v["max_position_error"].is_null());

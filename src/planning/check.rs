@@ -78,6 +78,11 @@ pub struct JointFile {
     pub lines: Vec<usize>,
     /// Motor angle of every row, when the file has a `motor` column.
     pub motor: Option<Vec<Real>>,
+    /// Time of every row (s), when the file has a `t` (or `time`) column: non-decreasing.
+    pub t: Option<Vec<Real>>,
+    /// The ray's s of every row, when the file has an `s` column (helixreach `plan`): the pose
+    /// error of a row is then measured at its own s, not at a projection.
+    pub s: Option<Vec<Real>>,
     /// How the file was read (`whitespace`, `csv`, `csv header: joint names`, `csv header: q0..`).
     pub format: String,
 }
@@ -134,7 +139,7 @@ impl JointFile {
         let first_fields = split(first);
         let has_header = first_fields.iter().any(|f| f.parse::<Real>().is_err());
         // Column of each joint, the motor column, the expected field count, and the format.
-        let (cols, motor_col, n_fields, format) = if has_header {
+        let (cols, extra_cols, n_fields, format) = if has_header {
             content.next();
             let find = |name: &str| first_fields.iter().position(|h| h == name);
             let by_name: Option<Vec<usize>> = joint_names.iter().map(|n| find(n)).collect();
@@ -154,14 +159,23 @@ impl JointFile {
                     ))
                 }
             };
-            (cols, find(MOTOR_COLUMN), first_fields.len(), format)
+            let t_col = find("t").or_else(|| find("time"));
+            (
+                cols,
+                [find(MOTOR_COLUMN), t_col, find("s")],
+                first_fields.len(),
+                format,
+            )
         } else {
             let format = if comma { "csv" } else { "whitespace" };
-            ((0..dof).collect(), None, dof, format)
+            ((0..dof).collect(), [None; 3], dof, format)
         };
+        let [motor_col, t_col, s_col] = extra_cols;
         let mut q = Vec::new();
         let mut lines = Vec::new();
         let mut motor = motor_col.map(|_| Vec::new());
+        let mut times = t_col.map(|_| Vec::new());
+        let mut arcs = s_col.map(|_| Vec::new());
         for (line, l) in content {
             if lines.len() >= MAX_ROWS {
                 return Err(bad(
@@ -203,6 +217,22 @@ impl JointFile {
             if let (Some(c), Some(m)) = (motor_col, motor.as_mut()) {
                 m.push(num(c, MOTOR_COLUMN)?);
             }
+            if let (Some(c), Some(ts)) = (t_col, times.as_mut()) {
+                let t = num(c, &first_fields[c])?;
+                if let Some(&prev) = ts.last() {
+                    if t < prev {
+                        return Err(bad(
+                            line,
+                            &first_fields[c],
+                            format!("time {t} is before the previous row's {prev}"),
+                        ));
+                    }
+                }
+                ts.push(t);
+            }
+            if let (Some(c), Some(ss)) = (s_col, arcs.as_mut()) {
+                ss.push(num(c, "s")?);
+            }
             lines.push(line);
         }
         if lines.is_empty() {
@@ -217,6 +247,8 @@ impl JointFile {
             q,
             lines,
             motor,
+            t: times,
+            s: arcs,
             format: format.to_string(),
         })
     }
@@ -239,6 +271,66 @@ pub struct CheckOptions {
     /// seed imposed the latter with n = [`SEED_HELD_EDGES`] (its DER's 101 vertices; the paper:
     /// "the material frame on the last edge gives the required rotation matrix").
     pub held_edges: usize,
+    /// Step bound (rad): a step of any joint between consecutive rows larger than this is a
+    /// finding ([`Finding::Step`]).
+    pub max_step: Real,
+    /// Fraction of the URDF joint speed limits (and the rig's motor limit) a timed file may use.
+    pub velocity_scale: Real,
+    /// Fraction of the rig's joint and motor acceleration limits a timed file may use.
+    pub acceleration_scale: Real,
+    /// Largest position error (m) of a row from the ray's pose curve (with a direction).
+    pub position_tolerance: Real,
+    /// Largest rotation error (rad) of a row from the ray's pose curve (with a direction).
+    pub rotation_tolerance: Real,
+}
+
+/// Default [`CheckOptions::position_tolerance`] (m).
+pub const POSITION_TOLERANCE: Real = 1e-3;
+/// Default [`CheckOptions::rotation_tolerance`] (rad).
+pub const ROTATION_TOLERANCE: Real = 1e-2;
+/// Relative slack of the velocity and acceleration gates (round-off of the written numbers).
+pub const RATE_SLACK: Real = 1e-9;
+
+/// A kind of finding that fails a check; each has its own bit in
+/// [`CheckReport::finding_mask`] (the `check` command exits 64 + the mask).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Finding {
+    /// A joint (or the motor) outside its limits.
+    Limit = 1,
+    /// A self, scene or rod collision at a row, or inside an interpolated step.
+    Collision = 2,
+    /// A joint step over [`CheckOptions::max_step`].
+    Step = 4,
+    /// A joint or motor speed over its limit (from the `t` column).
+    Velocity = 8,
+    /// A joint or motor acceleration over its limit (from the `t` column).
+    Acceleration = 16,
+    /// A row's pose farther from the ray's pose curve than the tolerance.
+    Pose = 32,
+}
+
+impl Finding {
+    /// Every kind, by bit.
+    pub const ALL: [Finding; 6] = [
+        Finding::Limit,
+        Finding::Collision,
+        Finding::Step,
+        Finding::Velocity,
+        Finding::Acceleration,
+        Finding::Pose,
+    ];
+
+    /// The JSON name.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Finding::Limit => "limit",
+            Finding::Collision => "collision",
+            Finding::Step => "step",
+            Finding::Velocity => "velocity",
+            Finding::Acceleration => "acceleration",
+            Finding::Pose => "pose",
+        }
+    }
 }
 
 /// The seed experiment's `held_edges`: its Descartes targets were the last-edge frames of a
@@ -247,7 +339,9 @@ pub struct CheckOptions {
 pub const SEED_HELD_EDGES: usize = 100;
 
 impl Default for CheckOptions {
-    /// No direction, azimuth 0, `s_max` 20, no clearance, the continuum end frame.
+    /// No direction, azimuth 0, `s_max` 20, no clearance, the continuum end frame, step bound
+    /// [`JUMP`], the full speed and acceleration limits, tolerances [`POSITION_TOLERANCE`] and
+    /// [`ROTATION_TOLERANCE`].
     fn default() -> Self {
         CheckOptions {
             direction: None,
@@ -255,6 +349,11 @@ impl Default for CheckOptions {
             s_max: 20.0,
             clearance: false,
             held_edges: 0,
+            max_step: JUMP,
+            velocity_scale: 1.0,
+            acceleration_scale: 1.0,
+            position_tolerance: POSITION_TOLERANCE,
+            rotation_tolerance: ROTATION_TOLERANCE,
         }
     }
 }
@@ -329,6 +428,25 @@ pub struct CheckReport {
     pub max_joint_step: (Real, usize),
     /// Steps over [`JUMP`].
     pub steps_over_jump: usize,
+    /// The step bound checked ([`CheckOptions::max_step`]).
+    pub max_step_bound: Real,
+    /// Steps over the bound.
+    pub steps_over_bound: usize,
+    /// Whether the file has a time column (velocity and acceleration checked).
+    pub timed: bool,
+    /// Rows reached by a segment whose speed exceeds a joint's (or the motor's) limit.
+    pub velocity_violations: usize,
+    /// Rows whose finite-difference acceleration exceeds a limit.
+    pub acceleration_violations: usize,
+    /// Largest |velocity| / limit over joints, motor and segments (timed files).
+    pub max_velocity_ratio: Option<(Real, usize)>,
+    /// Largest |acceleration| / limit (timed files).
+    pub max_acceleration_ratio: Option<(Real, usize)>,
+    /// Rows whose pose error exceeds a tolerance (with a direction).
+    pub pose_violations: usize,
+    /// Whether the pose error was measured at every row's own s (an `s` column) rather than a
+    /// projection.
+    pub pose_at_file_s: bool,
     /// Joint-space path length Σ‖Δq‖₂ (rad).
     pub path_length: Real,
     /// Largest position error (m) and its row, with a direction.
@@ -604,6 +722,15 @@ pub fn check_trajectory(
         segment_collisions: 0,
         max_joint_step: (0.0, 0),
         steps_over_jump: 0,
+        max_step_bound: opt.max_step,
+        steps_over_bound: 0,
+        timed: traj.t.is_some(),
+        velocity_violations: 0,
+        acceleration_violations: 0,
+        max_velocity_ratio: None,
+        max_acceleration_ratio: None,
+        pose_violations: 0,
+        pose_at_file_s: traj.s.is_some() && opt.direction.is_some(),
         path_length: 0.0,
         max_position_error: None,
         max_rotation_error: None,
@@ -676,6 +803,9 @@ pub fn check_trajectory(
             if step > JUMP {
                 rep.steps_over_jump += 1;
             }
+            if step > opt.max_step {
+                rep.steps_over_bound += 1;
+            }
             // At most MAX_SEGMENT_SAMPLES samples: a step that needs more is far over JUMP and
             // fails the check as a jump anyway.
             let n = (step / rig.planner.segment_check_step)
@@ -697,12 +827,18 @@ pub fn check_trajectory(
         let mut rod_geom = None;
         if let Some(pr) = projector.as_mut() {
             let fk = model.chain().tool_pose(q).mul(&tool).to_iso();
-            let s = pr.project(&fk, prev_s)?;
+            let s = match &traj.s {
+                Some(ss) => ss[i],
+                None => pr.project(&fk, prev_s)?,
+            };
             let (_, dp, dr) = pr.eval(s, &fk)?;
             prev_s = Some((s, prev_s.map_or(0.0, |(s0, _)| (s - s0).abs())));
             row.s = Some(s);
             row.position_error = Some(dp);
             row.rotation_error = Some(dr);
+            if !(dp <= opt.position_tolerance && dr <= opt.rotation_tolerance) {
+                rep.pose_violations += 1;
+            }
             max_of(&mut rep.max_position_error, dp, i);
             max_of(&mut rep.max_rotation_error, dr, i);
             rep.s_max_reached = Some(rep.s_max_reached.map_or(s, |m: Real| m.max(s)));
@@ -758,16 +894,139 @@ pub fn check_trajectory(
         }
         rows.push(row);
     }
+    if let Some(t) = &traj.t {
+        let mut v_lim: Vec<Real> = model
+            .joints()
+            .iter()
+            .map(|j| j.velocity * opt.velocity_scale)
+            .collect();
+        let mut a_lim: Vec<Real> = rig
+            .joint_acceleration_limits(dof)?
+            .iter()
+            .map(|a| a * opt.acceleration_scale)
+            .collect();
+        if traj.motor.is_some() {
+            v_lim.push(rig.motor.max_velocity * opt.velocity_scale);
+            a_lim.push(rig.motor.max_acceleration * opt.acceleration_scale);
+        }
+        let rates = rate_check(traj, t, &v_lim, &a_lim);
+        rep.velocity_violations = rates.velocity_rows;
+        rep.acceleration_violations = rates.acceleration_rows;
+        rep.max_velocity_ratio = rates.max_velocity;
+        rep.max_acceleration_ratio = rates.max_acceleration;
+    }
     pairs.sort_by(|x, y| x.kind.cmp(&y.kind).then(x.first_row.cmp(&y.first_row)));
     rep.pairs = pairs;
     rep.row_checks = rows;
     Ok(rep)
 }
 
+/// Velocities and accelerations of a timed file by finite differences.
+struct Rates {
+    velocity_rows: usize,
+    acceleration_rows: usize,
+    max_velocity: Option<(Real, usize)>,
+    max_acceleration: Option<(Real, usize)>,
+}
+
+/// The finite-difference rate check of a timed file (module docs, "Rates"): segment k (row k →
+/// k+1) moves at `(x_{k+1} − x_k)/(t_{k+1} − t_k)`; row k accelerates by the change of the
+/// segment velocity around it over half the two segments' time, `2·(v_k − v_{k−1})/(Δt_{k−1} +
+/// Δt_k)`, with the robot at rest before the first row and after the last (a zero-length rest
+/// segment). Channels: the joints, then the motor when `limits` has one more entry.
+fn rate_check(traj: &JointFile, t: &[Real], v_lim: &[Real], a_lim: &[Real]) -> Rates {
+    let n = traj.rows();
+    let dof = traj.dof;
+    let value = |i: usize, c: usize| -> Real {
+        if c < dof {
+            traj.row(i)[c]
+        } else {
+            traj.motor.as_ref().map_or(0.0, |m| m[i])
+        }
+    };
+    let channels = v_lim.len();
+    let mut out = Rates {
+        velocity_rows: 0,
+        acceleration_rows: 0,
+        max_velocity: None,
+        max_acceleration: None,
+    };
+    // Velocity of segment k (k in 0..n-1) and channel c; rest outside.
+    let seg = |k: usize, c: usize| -> (Real, Real) {
+        let dt = t[k + 1] - t[k];
+        let dx = value(k + 1, c) - value(k, c);
+        let v = if dx == 0.0 {
+            0.0
+        } else if dt > 0.0 {
+            dx / dt
+        } else {
+            Real::INFINITY
+        };
+        (v, dt)
+    };
+    let bump = |cur: &mut Option<(Real, usize)>, r: Real, i: usize| {
+        if cur.is_none_or(|(m, _)| r > m) {
+            *cur = Some((r, i));
+        }
+    };
+    for i in 0..n {
+        let mut v_bad = false;
+        let mut a_bad = false;
+        for c in 0..channels {
+            let (v_in, dt_in) = if i > 0 { seg(i - 1, c) } else { (0.0, 0.0) };
+            let (v_out, dt_out) = if i + 1 < n { seg(i, c) } else { (0.0, 0.0) };
+            if i > 0 {
+                let r = v_in.abs() / v_lim[c];
+                bump(&mut out.max_velocity, r, i);
+                v_bad |= r.is_nan() || r > 1.0 + RATE_SLACK;
+            }
+            let half = 0.5 * (dt_in + dt_out);
+            let dv = v_out - v_in;
+            let r = if dv == 0.0 {
+                0.0
+            } else if half > 0.0 {
+                dv.abs() / half / a_lim[c]
+            } else {
+                Real::INFINITY
+            };
+            bump(&mut out.max_acceleration, r, i);
+            a_bad |= r.is_nan() || r > 1.0 + RATE_SLACK;
+        }
+        out.velocity_rows += v_bad as usize;
+        out.acceleration_rows += a_bad as usize;
+    }
+    out
+}
+
 impl CheckReport {
     /// Whether the trajectory passed: no limit violation, no collision.
     pub fn passed(&self) -> bool {
         self.limit_violations == 0 && self.collisions == 0
+    }
+
+    /// The number of findings of each kind ([`Finding`]): limit rows, colliding rows plus
+    /// colliding interpolated steps, steps over the bound, rows over a speed or acceleration
+    /// limit, rows over a pose tolerance.
+    pub fn findings(&self) -> [(Finding, usize); 6] {
+        [
+            (Finding::Limit, self.limit_violations),
+            (
+                Finding::Collision,
+                self.collisions + self.segment_collisions,
+            ),
+            (Finding::Step, self.steps_over_bound),
+            (Finding::Velocity, self.velocity_violations),
+            (Finding::Acceleration, self.acceleration_violations),
+            (Finding::Pose, self.pose_violations),
+        ]
+    }
+
+    /// The bits ([`Finding`] values) of the kinds found; 0 when the file passes the gate.
+    pub fn finding_mask(&self) -> u8 {
+        self.findings()
+            .iter()
+            .filter(|(_, n)| *n > 0)
+            .fold(0, |m, (f, _)| m | *f as u8)
     }
 
     /// The JSON summary (keys: `file`, `rig`, `clamp`, `rows`, `limit_violations`,
@@ -804,7 +1063,27 @@ impl CheckReport {
             .collect();
         let v = |x: Option<(Real, usize)>| x.map(|(v, _)| v);
         let r = |x: Option<(Real, usize)>| x.map(|(_, r)| r);
-        serde_json::json!({
+        let findings: serde_json::Map<String, serde_json::Value> = self
+            .findings()
+            .iter()
+            .map(|(f, n)| (f.as_str().to_string(), serde_json::json!(n)))
+            .collect();
+        let gate = serde_json::json!({
+            "gate_passed": self.finding_mask() == 0,
+            "findings": findings,
+            "max_step_bound": self.max_step_bound,
+            "steps_over_bound": self.steps_over_bound,
+            "timed": self.timed,
+            "velocity_violations": self.velocity_violations,
+            "acceleration_violations": self.acceleration_violations,
+            "max_velocity_ratio": v(self.max_velocity_ratio),
+            "max_velocity_ratio_row": r(self.max_velocity_ratio),
+            "max_acceleration_ratio": v(self.max_acceleration_ratio),
+            "max_acceleration_ratio_row": r(self.max_acceleration_ratio),
+            "pose_violations": self.pose_violations,
+            "pose_at_file_s": self.pose_at_file_s,
+        });
+        let mut doc = serde_json::json!({
             "file": self.file.display().to_string(),
             "rig": self.rig,
             "clamp": self.clamp,
@@ -834,7 +1113,11 @@ impl CheckReport {
             "min_rod_clearance": v(self.min_rod_clearance),
             "min_rod_clearance_row": r(self.min_rod_clearance),
             "min_rod_clearance_pair": self.min_clearance_pairs[1],
-        })
+        });
+        if let (Some(d), serde_json::Value::Object(g)) = (doc.as_object_mut(), gate) {
+            d.extend(g);
+        }
+        doc
     }
 
     /// The per-row CSV: `row,line,s,position_error,rotation_error,joint_step,limit,contacts,

@@ -160,9 +160,20 @@ pub use crate::rod::dynamics::PhysicalRod as RodSpec;
 pub struct MotorSpec {
     /// Speed limit (rad/s).
     pub max_velocity: Real,
+    /// Acceleration limit (rad/s²; TOML `motor.max_acceleration`, default
+    /// [`DEFAULT_MOTOR_ACCELERATION`]).
+    pub max_acceleration: Real,
     /// Position range (rad); `(−∞, ∞)` for a motor that turns freely.
     pub range: (Real, Real),
 }
+
+/// The motor's acceleration limit when the rig does not state one (rad/s²).
+pub const DEFAULT_MOTOR_ACCELERATION: Real = 5.0;
+
+/// Every arm joint's acceleration limit when the rig does not state `planner.joint_acceleration`
+/// (rad/s²): URDFs carry no acceleration limits, and this is below every published limit of the
+/// embedded arms (Panda: 7.5–20 rad/s²).
+pub const DEFAULT_JOINT_ACCELERATION: Real = 2.0;
 
 /// Planner settings (the `[planner]` table).
 #[derive(Debug, Clone, PartialEq)]
@@ -204,6 +215,17 @@ pub struct PlannerSettings {
     pub end_speed: Real,
     /// Fraction of the URDF joint speed limits used by the time parametrization, in (0, 1].
     pub velocity_scale: Real,
+    /// Joint acceleration limits (rad/s², one per arm joint; empty = every joint
+    /// [`DEFAULT_JOINT_ACCELERATION`]). The time parametrization uses them scaled by
+    /// `acceleration_scale`; `check` gates on them unscaled.
+    pub joint_acceleration: Vec<Real>,
+    /// Fraction of the joint and motor acceleration limits used by the time parametrization, in
+    /// (0, 1].
+    pub acceleration_scale: Real,
+    /// The rod's quasi-static ray speed |ds/dt| (1/s, s the nondimensional distance along the
+    /// ray): the largest speed at which DER dynamics (`helixreach simulate`) moves the snap by
+    /// less than the fraction the rig file states; ∞ = no limit beyond `end_speed`.
+    pub max_ray_speed: Real,
     /// Per-joint weights of the edge cost (empty = all 1).
     pub joint_weights: Vec<Real>,
     /// Weight of the motor step in the edge cost.
@@ -285,6 +307,9 @@ impl Default for PlannerSettings {
             rod_end_exclusion: 0.05,
             end_speed: 0.01,
             velocity_scale: 0.5,
+            joint_acceleration: Vec::new(),
+            acceleration_scale: 0.5,
+            max_ray_speed: Real::INFINITY,
             joint_weights: Vec::new(),
             motor_weight: 0.0,
             allow_reconfiguration: true,
@@ -334,6 +359,24 @@ pub fn tool_from_director() -> Mat3 {
 }
 
 impl Rig {
+    /// The arm's joint acceleration limits (rad/s², unscaled) for a robot of `dof` joints:
+    /// `planner.joint_acceleration`, or [`DEFAULT_JOINT_ACCELERATION`] for every joint when the
+    /// rig lists none. Errors when the list has another length.
+    pub fn joint_acceleration_limits(&self, dof: usize) -> Result<Vec<Real>> {
+        let a = &self.planner.joint_acceleration;
+        if a.is_empty() {
+            return Ok(vec![DEFAULT_JOINT_ACCELERATION; dof]);
+        }
+        if a.len() != dof {
+            return Err(Error::invalid(
+                format!("{}: planner.joint_acceleration", self.source),
+                format!("{a:?}"),
+                format!("lists {} values, the robot has {dof} joints", a.len()),
+            ));
+        }
+        Ok(a.clone())
+    }
+
     /// Load a rig from a path, or by the name of an embedded rig (`sawyer-seed`).
     /// A path that exists wins over an embedded name.
     pub fn load(name_or_path: &str) -> Result<Rig> {
@@ -540,6 +583,8 @@ struct RawRod {
 struct RawMotor {
     max_velocity: Real,
     #[serde(default)]
+    max_acceleration: Option<Real>,
+    #[serde(default)]
     lower: Option<Real>,
     #[serde(default)]
     upper: Option<Real>,
@@ -606,6 +651,9 @@ struct RawPlanner {
     rod_end_exclusion: Option<Real>,
     end_speed: Option<Real>,
     velocity_scale: Option<Real>,
+    joint_acceleration: Option<Vec<Real>>,
+    acceleration_scale: Option<Real>,
+    max_ray_speed: Option<Real>,
     joint_weights: Option<Vec<Real>>,
     motor_weight: Option<Real>,
     allow_reconfiguration: Option<bool>,
@@ -782,8 +830,15 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             "the motor range must contain 0 (the straight rod) in its interior",
         ));
     }
+    let max_acceleration = c.positive(
+        "motor.max_acceleration",
+        raw.motor
+            .max_acceleration
+            .unwrap_or(DEFAULT_MOTOR_ACCELERATION),
+    )?;
     let motor = MotorSpec {
         max_velocity,
+        max_acceleration,
         range: (lower, upper),
     };
 
@@ -886,6 +941,25 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             "must lie in (0, 1]",
         ));
     }
+    let acceleration_scale = c.positive(
+        "planner.acceleration_scale",
+        p.acceleration_scale.unwrap_or(d.acceleration_scale),
+    )?;
+    if acceleration_scale > 1.0 {
+        return Err(c.err(
+            "planner.acceleration_scale",
+            acceleration_scale,
+            "must lie in (0, 1]",
+        ));
+    }
+    let joint_acceleration = p.joint_acceleration.unwrap_or_default();
+    for (i, a) in joint_acceleration.iter().enumerate() {
+        c.positive(&format!("planner.joint_acceleration[{i}]"), *a)?;
+    }
+    let max_ray_speed = match p.max_ray_speed {
+        Some(v) => c.positive("planner.max_ray_speed", v)?,
+        None => d.max_ray_speed,
+    };
     let joint_weights = p.joint_weights.unwrap_or_default();
     for (i, w) in joint_weights.iter().enumerate() {
         c.positive(&format!("planner.joint_weights[{i}]"), *w)?;
@@ -965,6 +1039,9 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
         rod_end_exclusion,
         end_speed: c.positive("planner.end_speed", p.end_speed.unwrap_or(d.end_speed))?,
         velocity_scale,
+        joint_acceleration,
+        acceleration_scale,
+        max_ray_speed,
         joint_weights,
         motor_weight: c.non_negative(
             "planner.motor_weight",

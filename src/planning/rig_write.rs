@@ -71,6 +71,7 @@ struct OutRod {
 #[derive(Serialize)]
 struct OutMotor {
     max_velocity: Real,
+    max_acceleration: Real,
     #[serde(skip_serializing_if = "Option::is_none")]
     lower: Option<Real>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -106,6 +107,11 @@ struct OutPlanner<'a> {
     rod_end_exclusion: Real,
     end_speed: Real,
     velocity_scale: Real,
+    #[serde(skip_serializing_if = "<[Real]>::is_empty")]
+    joint_acceleration: &'a [Real],
+    acceleration_scale: Real,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_ray_speed: Option<Real>,
     #[serde(skip_serializing_if = "<[Real]>::is_empty")]
     joint_weights: &'a [Real],
     motor_weight: Real,
@@ -167,6 +173,7 @@ impl Rig {
             },
             motor: OutMotor {
                 max_velocity: self.motor.max_velocity,
+                max_acceleration: self.motor.max_acceleration,
                 lower: finite(self.motor.range.0),
                 upper: finite(self.motor.range.1),
             },
@@ -193,6 +200,9 @@ impl Rig {
                 rod_end_exclusion: pl.rod_end_exclusion,
                 end_speed: pl.end_speed,
                 velocity_scale: pl.velocity_scale,
+                joint_acceleration: &pl.joint_acceleration,
+                acceleration_scale: pl.acceleration_scale,
+                max_ray_speed: finite(pl.max_ray_speed),
                 joint_weights: &pl.joint_weights,
                 motor_weight: pl.motor_weight,
                 allow_reconfiguration: pl.allow_reconfiguration,

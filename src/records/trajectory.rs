@@ -8,8 +8,11 @@
 //!   `plot::render::input::read_trajectory` (the rendering) and
 //!   [`crate::planning::check::JointFile`] (`check --joints`), all by the column names
 //!   [`joint_column`], [`MOTOR_COLUMN`] and [`POSE_COLUMNS`].
-//! - JSON: [`JointTrajectoryDoc`], shaped like ROS `trajectory_msgs/JointTrajectory` (the motor the
-//!   last joint); object keys in alphabetical order, as `serde_json` writes its maps.
+//! - JSON / YAML: [`JointTrajectoryMsg`], exactly ROS 2 `trajectory_msgs/msg/JointTrajectory`
+//!   (fields in the message's order; `time_from_start {sec, nanosec}`; positions, velocities,
+//!   accelerations, an empty effort), for the arm alone ([`Channels::Arm`], URDF joint names)
+//!   or the rod motor alone ([`Channels::Motor`]). No extra keys: what the trajectory was planned
+//!   for and its phases are in the sidecar `F.meta.json` ([`TrajectoryMeta`]).
 
 use super::csv_out;
 use crate::error::{Error, Result};
@@ -43,11 +46,16 @@ pub const POSE_COLUMNS: [&str; 13] = [
     "phase",
 ];
 
-/// The CSV header of a trajectory with `dof` joints.
+/// The CSV header of a trajectory with `dof` joints: `t`, the joints, [`POSE_COLUMNS`], then the
+/// velocities `v_q0..v_q{n-1},v_motor` (rad/s) and accelerations `a_q0..,a_motor` (rad/s²).
 pub fn trajectory_header(dof: usize) -> Vec<String> {
     let mut h = vec!["t".to_string()];
     h.extend((0..dof).map(joint_column));
     h.extend(POSE_COLUMNS.iter().map(|s| s.to_string()));
+    for prefix in ["v_", "a_"] {
+        h.extend((0..dof).map(|j| format!("{prefix}{}", joint_column(j))));
+        h.push(format!("{prefix}{MOTOR_COLUMN}"));
+    }
     h
 }
 
@@ -98,6 +106,12 @@ pub struct TrajectoryRecord<'a> {
     pub qz: Real,
     /// `load`, `reconfigure`, `hold` or `unload`.
     pub phase: &'static str,
+    /// Joint velocities, then the motor's (rad/s).
+    #[serde(serialize_with = "csv_out::reals")]
+    pub velocity: &'a [Real],
+    /// Joint accelerations, then the motor's (rad/s²).
+    #[serde(serialize_with = "csv_out::reals")]
+    pub acceleration: &'a [Real],
 }
 
 impl<'a> From<&'a TrajectoryPoint> for TrajectoryRecord<'a> {
@@ -120,6 +134,8 @@ impl<'a> From<&'a TrajectoryPoint> for TrajectoryRecord<'a> {
             qy: r.j,
             qz: r.k,
             phase: p.phase.as_str(),
+            velocity: &p.velocity,
+            acceleration: &p.acceleration,
         }
     }
 }
@@ -131,16 +147,13 @@ pub fn trajectory_csv(traj: &Trajectory) -> Result<String> {
         .points
         .first()
         .map_or(traj.joint_names.len(), |p| p.q.len());
-    if let Some((k, p)) = traj
-        .points
-        .iter()
-        .enumerate()
-        .find(|(_, p)| p.q.len() != dof)
-    {
+    if let Some((k, p)) = traj.points.iter().enumerate().find(|(_, p)| {
+        p.q.len() != dof || p.velocity.len() != dof + 1 || p.acceleration.len() != dof + 1
+    }) {
         return Err(Error::invalid(
             format!("trajectory point {k}"),
             p.q.len(),
-            format!("joints, the first point has {dof}"),
+            format!("joints (and velocities, accelerations: one more, the motor), the first point has {dof}"),
         ));
     }
     let rows: Vec<TrajectoryRecord<'_>> = traj.points.iter().map(Into::into).collect();
@@ -233,93 +246,172 @@ pub fn trajectory_meta_json(traj: &Trajectory) -> Result<String> {
         .map_err(|e| Error::invalid("trajectory meta json", "", e.to_string()))
 }
 
-/// The JSON document of a trajectory (ROS `trajectory_msgs/JointTrajectory` shape).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct JointTrajectoryDoc {
-    /// The frame of the poses.
-    pub header: JsonHeader,
-    /// Arm joints, then the motor.
-    pub joint_names: Vec<String>,
-    /// One entry per sample.
-    pub points: Vec<JsonPoint>,
+/// Which joints a [`JointTrajectoryMsg`] carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Channels {
+    /// The arm's joints (URDF names): what an arm's `FollowJointTrajectory` controller accepts.
+    Arm,
+    /// The rod motor alone (its own joint name).
+    Motor,
 }
 
-/// `header` of [`JointTrajectoryDoc`].
+/// ROS 2 `trajectory_msgs/msg/JointTrajectory`: exactly the message's fields, in its order.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct JsonHeader {
-    /// The robot base frame name.
+pub struct JointTrajectoryMsg {
+    /// `std_msgs/Header`.
+    pub header: HeaderMsg,
+    /// The joints, in the order of every point's arrays.
+    pub joint_names: Vec<String>,
+    /// One per sample.
+    pub points: Vec<PointMsg>,
+}
+
+/// ROS 2 `std_msgs/msg/Header`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HeaderMsg {
+    /// `builtin_interfaces/Time` (zero: "start now" for a controller).
+    pub stamp: DurationMsg,
+    /// The robot base frame.
     pub frame_id: String,
 }
 
-/// One point of [`JointTrajectoryDoc`] (fields in alphabetical order: the key order written).
+/// ROS 2 `trajectory_msgs/msg/JointTrajectoryPoint`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct JsonPoint {
-    /// `load`, `reconfigure`, `hold` or `unload`.
-    pub phase: &'static str,
-    /// Joint angles, then the motor (rad).
+pub struct PointMsg {
+    /// Positions (rad).
     pub positions: Vec<Real>,
-    /// Time from start, split as ROS `duration`.
-    pub time_from_start: JsonDuration,
-    /// Joint and motor velocities (rad/s), [`Trajectory::velocities`].
+    /// Velocities (rad/s).
     pub velocities: Vec<Real>,
+    /// Accelerations (rad/s²).
+    pub accelerations: Vec<Real>,
+    /// Efforts: empty (not commanded).
+    pub effort: Vec<Real>,
+    /// Time from the start of the trajectory.
+    pub time_from_start: DurationMsg,
 }
 
-/// A ROS `duration`: whole seconds and nanoseconds (fields in alphabetical order).
+/// ROS 2 `builtin_interfaces/msg/Duration` (and `Time`): whole seconds and nanoseconds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub struct JsonDuration {
-    /// Nanoseconds, 0..=999,999,999.
-    pub nsecs: i64,
+pub struct DurationMsg {
     /// Whole seconds.
-    pub secs: i64,
+    pub sec: i32,
+    /// Nanoseconds, 0..=999,999,999.
+    pub nanosec: u32,
 }
 
-impl JsonDuration {
-    /// `t` seconds (finite, ≥ 0) as whole seconds and the rounded nanoseconds (at most
+impl DurationMsg {
+    /// `t` seconds (finite, ≥ 0, < 2³¹ s) as whole seconds and the rounded nanoseconds (at most
     /// 999,999,999, so a time just below a whole second is not written as 10⁹ ns).
-    pub fn of(t: Real) -> JsonDuration {
+    pub fn of(t: Real) -> DurationMsg {
         let secs = t.floor();
-        let nsecs = ((t - secs) * 1e9).round().min(999_999_999.0);
-        JsonDuration {
-            nsecs: nsecs as i64,
-            secs: secs as i64,
+        let nanosec = ((t - secs) * 1e9).round().min(999_999_999.0);
+        DurationMsg {
+            sec: secs as i32,
+            nanosec: nanosec as u32,
         }
+    }
+
+    /// Seconds.
+    pub fn seconds(&self) -> Real {
+        self.sec as Real + self.nanosec as Real * 1e-9
     }
 }
 
-impl JointTrajectoryDoc {
-    /// The document of `traj`.
-    pub fn new(traj: &Trajectory) -> JointTrajectoryDoc {
-        let mut joint_names = traj.joint_names.clone();
-        joint_names.push(traj.motor_name.clone());
-        let points = traj
-            .points
-            .iter()
-            .zip(traj.velocities())
-            .map(|(p, velocities)| {
-                let mut positions = p.q.clone();
-                positions.push(p.motor);
-                JsonPoint {
-                    phase: p.phase.as_str(),
-                    positions,
-                    time_from_start: JsonDuration::of(p.t),
-                    velocities,
-                }
-            })
-            .collect();
-        JointTrajectoryDoc {
-            header: JsonHeader {
+impl JointTrajectoryMsg {
+    /// The message of `traj`'s arm joints or of its motor. Errors when a time does not fit
+    /// `int32` seconds.
+    pub fn new(traj: &Trajectory, channels: Channels) -> Result<JointTrajectoryMsg> {
+        let dof = traj.joint_names.len();
+        let (joint_names, range) = match channels {
+            Channels::Arm => (traj.joint_names.clone(), 0..dof),
+            Channels::Motor => (vec![traj.motor_name.clone()], dof..dof + 1),
+        };
+        let mut points = Vec::with_capacity(traj.points.len());
+        for (k, p) in traj.points.iter().enumerate() {
+            if !(p.t >= 0.0 && p.t < i32::MAX as Real) {
+                return Err(Error::invalid(
+                    format!("trajectory point {k} time"),
+                    p.t,
+                    "must lie in [0, 2^31) s",
+                ));
+            }
+            let pos = |c: usize| if c < dof { p.q[c] } else { p.motor };
+            points.push(PointMsg {
+                positions: range.clone().map(pos).collect(),
+                velocities: p.velocity[range.clone()].to_vec(),
+                accelerations: p.acceleration[range.clone()].to_vec(),
+                effort: Vec::new(),
+                time_from_start: DurationMsg::of(p.t),
+            });
+        }
+        Ok(JointTrajectoryMsg {
+            header: HeaderMsg {
+                stamp: DurationMsg { sec: 0, nanosec: 0 },
                 frame_id: traj.frame_id.clone(),
             },
             joint_names,
             points,
-        }
+        })
     }
 }
 
-/// The pretty-printed JSON text of `traj` ([`JointTrajectoryDoc`]).
+/// The pretty-printed JSON text of `traj`'s arm message ([`JointTrajectoryMsg`], [`Channels::Arm`]).
 pub fn trajectory_json(traj: &Trajectory) -> Result<String> {
-    serde_json::to_string_pretty(&JointTrajectoryDoc::new(traj))
+    message_json(&JointTrajectoryMsg::new(traj, Channels::Arm)?)
+}
+
+/// The pretty-printed JSON text of a message.
+pub fn message_json(msg: &JointTrajectoryMsg) -> Result<String> {
+    serde_json::to_string_pretty(msg)
         .map_err(|e| Error::invalid("trajectory json", "", e.to_string()))
+}
+
+/// A YAML float PyYAML (YAML 1.1, what `ros2 topic pub` reads) takes as a float: the shortest
+/// round-trip decimal, never in exponent notation, with a `.0` when integral.
+fn yaml_real(x: Real) -> String {
+    let s = format!("{x}");
+    if s.contains('.') {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+fn yaml_list(v: &[Real]) -> String {
+    let items: Vec<String> = v.iter().map(|x| yaml_real(*x)).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// The YAML of a message as `ros2 topic pub TOPIC trajectory_msgs/msg/JointTrajectory "$(cat F)"`
+/// reads it; with `goal` = true, nested under `trajectory:` as a
+/// `control_msgs/action/FollowJointTrajectory` goal (`ros2 action send_goal`) takes it.
+pub fn message_yaml(msg: &JointTrajectoryMsg, goal: bool) -> String {
+    let ind = if goal { "  " } else { "" };
+    let mut y = String::new();
+    if goal {
+        y.push_str("trajectory:\n");
+    }
+    y.push_str(&format!(
+        "{ind}header:\n{ind}  stamp: {{sec: 0, nanosec: 0}}\n{ind}  frame_id: \"{}\"\n",
+        msg.header.frame_id
+    ));
+    let names: Vec<String> = msg.joint_names.iter().map(|n| format!("\"{n}\"")).collect();
+    y.push_str(&format!(
+        "{ind}joint_names: [{}]\n{ind}points:\n",
+        names.join(", ")
+    ));
+    for p in &msg.points {
+        y.push_str(&format!(
+            "{ind}  - positions: {}\n{ind}    velocities: {}\n{ind}    accelerations: {}\n\
+             {ind}    effort: []\n{ind}    time_from_start: {{sec: {}, nanosec: {}}}\n",
+            yaml_list(&p.positions),
+            yaml_list(&p.velocities),
+            yaml_list(&p.accelerations),
+            p.time_from_start.sec,
+            p.time_from_start.nanosec
+        ));
+    }
+    y
 }
 
 #[cfg(test)]
@@ -345,6 +437,8 @@ mod tests {
                         Quat::from_axis_angle(&Vec3::y_axis(), x),
                     ),
                     phase: phases[k],
+                    velocity: vec![0.1 * x, -0.2, 0.3, 0.4 * x],
+                    acceleration: vec![1.0, -x, 0.0, 2.5],
                 }
             })
             .collect();
@@ -371,7 +465,7 @@ mod tests {
         let tr = traj();
         let text = trajectory_csv(&tr).unwrap();
         assert!(text.starts_with(
-            "t,q0,q1,q2,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase\n0.1,0,0.00000000000000001,1,"
+            "t,q0,q1,q2,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_q0,v_q1,v_q2,v_motor,a_q0,a_q1,a_q2,a_motor\n0.1,0,0.00000000000000001,1,"
         ));
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("t.csv");
@@ -403,42 +497,75 @@ mod tests {
         }
     }
 
-    /// The JSON: key order and values as the ROS message reads them; the time split never
-    /// writes 10⁹ ns.
+    /// The JSON: exactly the ROS 2 message's fields, in its order; the arm and the motor apart;
+    /// the time split never writes 10⁹ ns.
     #[test]
-    fn json_shape_and_duration_split() {
+    fn json_is_the_ros2_message() {
         let tr = traj();
         let text = trajectory_json(&tr).unwrap();
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-        assert_eq!(v["joint_names"][3], "rod_motor");
-        assert_eq!(v["header"]["frame_id"], "base");
+        let keys = |o: &serde_json::Value| -> Vec<String> {
+            let mut k: Vec<String> = o.as_object().unwrap().keys().cloned().collect();
+            k.sort();
+            k
+        };
+        assert_eq!(keys(&v), ["header", "joint_names", "points"]);
+        assert_eq!(keys(&v["header"]), ["frame_id", "stamp"]);
+        assert_eq!(
+            keys(&v["points"][0]),
+            [
+                "accelerations",
+                "effort",
+                "positions",
+                "time_from_start",
+                "velocities"
+            ]
+        );
+        assert_eq!(keys(&v["points"][0]["time_from_start"]), ["nanosec", "sec"]);
+        assert_eq!(v["joint_names"], serde_json::json!(["a", "b", "c"]));
         let last = &v["points"][3];
-        assert_eq!(last["phase"], "unload");
-        // serde_json's reader rounds within an ulp (no `float_roundtrip`); the text is exact.
-        let m = tr.points[3].motor;
-        assert!((last["positions"][3].as_f64().unwrap() - m).abs() <= m.abs() * Real::EPSILON);
-        assert!(text.contains(&format!(" {m}\n")), "{m}");
-        assert_eq!(last["time_from_start"]["secs"], 1);
-        let i_phase = text.find("\"phase\"").unwrap();
-        let i_pos = text.find("\"positions\"").unwrap();
-        let i_time = text.find("\"time_from_start\"").unwrap();
-        let i_vel = text.find("\"velocities\"").unwrap();
-        assert!(i_phase < i_pos && i_pos < i_time && i_time < i_vel);
-        assert!(text.find("\"nsecs\"").unwrap() < text.find("\"secs\"").unwrap());
+        assert_eq!(last["positions"].as_array().unwrap().len(), 3);
+        assert_eq!(last["accelerations"][1], -1.0);
+        assert_eq!(last["time_from_start"]["sec"], 1);
+        assert_eq!(last["time_from_start"]["nanosec"], 800_000_000);
+        // The message order: positions, velocities, accelerations, effort, time_from_start.
+        let at = |k: &str| text.find(k).unwrap();
+        assert!(at("\"positions\"") < at("\"velocities\""));
+        assert!(at("\"velocities\"") < at("\"accelerations\""));
+        assert!(at("\"accelerations\"") < at("\"effort\""));
+        assert!(at("\"effort\"") < at("\"time_from_start\""));
+        let motor = JointTrajectoryMsg::new(&tr, Channels::Motor).unwrap();
+        assert_eq!(motor.joint_names, ["rod_motor"]);
+        assert_eq!(motor.points[3].positions, [tr.points[3].motor]);
+        assert_eq!(motor.points[3].velocities, [0.4]);
         assert_eq!(
-            JsonDuration::of(2.9999999999),
-            JsonDuration {
-                nsecs: 999_999_999,
-                secs: 2
+            DurationMsg::of(2.9999999999),
+            DurationMsg {
+                sec: 2,
+                nanosec: 999_999_999
             }
         );
-        assert_eq!(
-            JsonDuration::of(1.25),
-            JsonDuration {
-                nsecs: 250_000_000,
-                secs: 1
-            }
+        assert_eq!(DurationMsg::of(1.25).nanosec, 250_000_000);
+        let mut bad = traj();
+        bad.points[1].t = 3e9;
+        assert!(trajectory_json(&bad).is_err());
+    }
+
+    /// The YAML: floats PyYAML reads as floats (a `.0` when integral, no exponent), the goal
+    /// form nested under `trajectory:`.
+    #[test]
+    fn yaml_for_ros2_topic_pub() {
+        let msg = JointTrajectoryMsg::new(&traj(), Channels::Arm).unwrap();
+        let y = message_yaml(&msg, false);
+        assert!(y.starts_with("header:\n  stamp: {sec: 0, nanosec: 0}\n  frame_id: \"base\"\n"));
+        assert!(y.contains("joint_names: [\"a\", \"b\", \"c\"]\npoints:\n  - positions: [0.0, 0.00000000000000001, 1.0]\n"), "{y}");
+        assert!(
+            !y.contains('e'.to_string().as_str()) || !y.contains("e-"),
+            "{y}"
         );
+        let g = message_yaml(&msg, true);
+        assert!(g.starts_with("trajectory:\n  header:\n"));
+        assert_eq!(g.lines().count(), y.lines().count() + 1);
     }
 
     /// The sidecar names how far the trajectory goes and its phases as runs of points.

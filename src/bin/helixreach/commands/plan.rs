@@ -1,5 +1,6 @@
 //! `helixreach plan`: plan one ray on a rig and write its time-parametrized joint + motor
-//! trajectory (CSV, and optionally a JSON shaped like ROS `trajectory_msgs/JointTrajectory`):
+//! trajectory (CSV; optionally the arm's ROS 2 `trajectory_msgs/msg/JointTrajectory` as JSON,
+//! as `ros2 topic pub` YAML and as a `FollowJointTrajectory` goal YAML):
 //! load to s*·(1 + margin), hold, unload along the same path (a `phase` column marks them and the
 //! self-motion reconfigurations).
 //!
@@ -14,7 +15,9 @@ use anyhow::Context;
 use helixreach::directions::Direction;
 use helixreach::planning::planner::{Planner, ReachClass};
 use helixreach::planning::rig::{Rig, RollMode};
-use helixreach::records::trajectory::{meta_path, trajectory_meta_json};
+use helixreach::records::trajectory::{
+    message_json, message_yaml, meta_path, trajectory_meta_json, Channels, JointTrajectoryMsg,
+};
 use helixreach::sweep::reach::s_star_of;
 use std::path::PathBuf;
 
@@ -46,9 +49,18 @@ pub struct Args {
     /// Output trajectory CSV.
     #[arg(long)]
     pub out: PathBuf,
-    /// Also write the trajectory as JSON (ROS JointTrajectory shape).
+    /// Also write the arm's trajectory as a ROS 2 `trajectory_msgs/msg/JointTrajectory` in JSON
+    /// (exactly the message's fields).
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Also write the arm's trajectory as the YAML `ros2 topic pub … trajectory_msgs/msg/
+    /// JointTrajectory "$(cat F)"` reads.
+    #[arg(long)]
+    pub yaml: Option<PathBuf>,
+    /// Also write the arm's trajectory as a `control_msgs/action/FollowJointTrajectory` goal in
+    /// YAML (`ros2 action send_goal … "$(cat F)"`).
+    #[arg(long)]
+    pub goal_yaml: Option<PathBuf>,
     /// Write the trajectory of a ray that cannot be driven to its target, as far as it goes
     /// (its sidecar says `partial` or `blocked`, with the cause and `s_reached`); without it
     /// such a ray writes nothing and exits 3.
@@ -73,7 +85,10 @@ fn parse_direction(s: &str) -> anyhow::Result<Direction> {
 /// Run `helixreach plan`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     helixreach::io::check_output(&args.out)?;
-    if let Some(j) = &args.json {
+    for j in [&args.json, &args.yaml, &args.goal_yaml]
+        .into_iter()
+        .flatten()
+    {
         helixreach::io::check_output(j)?;
     }
     let dir = parse_direction(&args.direction)?;
@@ -126,8 +141,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let traj = planner.trajectory(&plan)?;
     let meta = trajectory_meta_json(&traj)?;
     let mut files = vec![(args.out.clone(), traj.to_csv()?)];
+    let arm = JointTrajectoryMsg::new(&traj, Channels::Arm)?;
     if let Some(j) = &args.json {
-        files.push((j.clone(), traj.to_json()?));
+        files.push((j.clone(), message_json(&arm)?));
+    }
+    if let Some(y) = &args.yaml {
+        files.push((y.clone(), message_yaml(&arm, false)));
+    }
+    if let Some(y) = &args.goal_yaml {
+        files.push((y.clone(), message_yaml(&arm, true)));
     }
     for (path, text) in files {
         helixreach::io::write_atomic(&path, text.as_bytes())?;
