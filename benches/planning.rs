@@ -15,11 +15,14 @@
 //! the per-ray thread CPU, with the Descartes-like peer's cost for the same rays (its measured
 //! cost per fresh rung times each ray's waypoint count: the peer re-solves every waypoint).
 //!
+//! Group `decide_one_ray`: the search of the valid set (`planner.search = "exact"`) and the
+//! ladder on the same two rays (one testable, one partial early), thread CPU.
+//!
 //! Run: `cargo bench --bench planning`.
 use criterion::{criterion_group, criterion_main, Criterion};
 use helixreach::directions::Direction;
 use helixreach::planning::planner::{Planner, ReachClass};
-use helixreach::planning::rig::{Rig, RollMode};
+use helixreach::planning::rig::{Rig, RollMode, SearchMethod};
 use std::hint::black_box;
 
 #[path = "common/cpu_time.rs"]
@@ -164,6 +167,28 @@ fn bench_ray(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     g.bench_function("descartes_like_fresh_rungs_20_waypoints", |b| {
         b.iter(|| black_box(fresh_rungs(&p, &solver, &mut ws, &picks)))
     });
+    g.finish();
+    // The search of the valid set (`planner.search = "exact"`) against the ladder, same rays:
+    // the testable ray above, and a quarter-sphere ray partial early (its next slice has no
+    // valid configuration: the certificate is cheap) — direction 10 of the 200-direction
+    // lattice.
+    let partial = helixreach::directions::fibonacci(200, true).unwrap()[10];
+    let s_partial = helixreach::boundary::continuum::critical_s(&partial, 1e-10)
+        .unwrap()
+        .s_star;
+    let mut g = c.benchmark_group("decide_one_ray");
+    g.sample_size(10);
+    let mut rig = Rig::load("sawyer-seed").unwrap();
+    rig.planner.search = SearchMethod::Exact;
+    let exact = Planner::new(rig).unwrap();
+    let ladder = planner(0);
+    for (name, dir, s) in [("testable", d, s_star), ("partial", partial, s_partial)] {
+        for (method, p) in [("exact", &exact), ("ladder", &ladder)] {
+            g.bench_function(format!("{name}_{method}"), |b| {
+                b.iter(|| black_box(p.plan_ray(&dir, s, 0.0, RollMode::Fixed, false).unwrap()))
+            });
+        }
+    }
     g.finish();
 }
 
