@@ -8,10 +8,10 @@
 //! rod collision; continuous joint-space edges under `planner.max_joint_step`) contains a
 //! configuration of the straight rod (s = 0) and one of `s*·(1 + margin)`.
 //!
-//! The search ([`graph`]) floods that piece from every start configuration (the start set of
+//! The search (submodule `graph`) floods that piece from every start configuration (the start set of
 //! the roll mode: every valid IK solution of the straight rod from many restarts with the
 //! redundancy joint locked on a grid, and the self-motion walks through them), best-first
-//! toward larger s. It returns either a path to the last slice ([`path`]), or a **certificate**
+//! toward larger s. It returns either a path to the last slice (submodule `path`), or a **certificate**
 //! that the ray's `s_reached` (the farthest slice F of the piece reachable from the starts)
 //! cannot be passed:
 //! - the forward piece exhausted (every node reachable from a start expanded), or
@@ -28,11 +28,11 @@
 //!
 //! # Resolution (what the answer is exact at)
 //! - **Slices**: the rig's pose-path waypoints (`planner.max_end_step`,
-//!   `planner.max_end_angle`), [`slices`].
+//!   `planner.max_end_angle`), submodule `slices`.
 //! - **Self-motion**: samples at most `planner.self_motion_step` (max-norm) apart along each
-//!   curve; two samples within 0.6 of that step in every joint are one node ([`graph`]).
-//! - **Roll** (`motor`): steps of [`linking::ROLL_STEP`].
-//! - **Edges** ([`linking`]): a load / back-off step is one minimum-norm track from a node to
+//!   curve; two samples within 0.6 of that step in every joint are one node (submodule `graph`).
+//! - **Roll** (`motor`): steps of `linking::ROLL_STEP`.
+//! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
 //!   the neighbouring slice; every edge within the joint-step bound, its end valid and its
 //!   joint-linear segment collision-free (checked every `planner.segment_check_step`).
 //!
