@@ -38,7 +38,7 @@
 
 use crate::directions::Direction;
 use crate::error::{Error, Result};
-use crate::io::{bad_line, parse_field, write_atomic, CsvInput};
+use crate::io::{bad_line, parse_field, CsvInput};
 use crate::math::Real;
 use std::path::Path;
 
@@ -278,11 +278,6 @@ impl Comparison {
         let rows: Vec<crate::records::compare::ComparisonRecord> =
             self.rows.iter().map(Into::into).collect();
         crate::records::csv_out::to_csv(&rows)
-    }
-
-    /// Write [`Comparison::to_csv`] atomically.
-    pub fn write_csv(&self, path: &Path) -> Result<()> {
-        write_atomic(path, self.to_csv()?.as_bytes())
     }
 
     /// The JSON summary: `{count, mean, max, std, std_kind: "population", mean_signed_diff,

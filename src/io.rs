@@ -1,7 +1,24 @@
-//! File output shared by every command: atomic writes (temp file `NAME.<pid>.tmp` in the same
-//! directory, then rename, so a reader never sees a half-written file and a crash never destroys
-//! the old one), removal of the temp files a killed process left behind, exclusive output locks,
-//! output-path checks made before any computation, and the CSV input helpers.
+//! The one writer of every file a command writes, and the CSV input helpers.
+//!
+//! # What each output kind gets
+//! - **A regular file** (new or existing): written atomically — a temp file `NAME.<pid>.tmp` in
+//!   the same directory, created with `O_CREAT|O_EXCL|O_NOFOLLOW` (a planted symlink or file at
+//!   that name is never followed nor truncated), written, fsynced, renamed over `NAME`. A reader
+//!   never sees a half-written file; a failure (a full disk, a signal) removes the temp file and
+//!   leaves the previous file untouched. Temp files of killed processes are removed.
+//! - **An existing device or FIFO** (`/dev/null`, a named pipe, a terminal): written in place,
+//!   never replaced by a regular file.
+//! - **`-`**: standard output (a binary format such as PNG is refused there with a clear error).
+//!
+//! [`Output`] adds what a command's `--out` needs on top of that: no overwrite of an existing
+//! file without `--force`; never onto one of the command's own inputs (even with `--force`),
+//! nor onto a sweep output that has a settings record (`F.meta.json`), nor onto a path whose
+//! lock (`NAME.lock`, see [`OutputLock`]) a running writer holds; and every check made once
+//! before computing ([`Output::check`]) and again when writing.
+//!
+//! Lock, probe and temp files are created with `O_NOFOLLOW` (and the probe and temp files with
+//! `O_EXCL`): a symlink planted at `NAME.lock` or `NAME.<pid>.tmp` is refused or replaced,
+//! never followed.
 
 use crate::error::{Error, Result};
 use std::io::Write;
@@ -17,16 +34,47 @@ pub fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
-/// Write `bytes` to `path` atomically (write a temp file, fsync, rename over `path`).
-/// Parent directories are created.
+/// Create `path` as a new regular file (`O_CREAT|O_EXCL|O_NOFOLLOW`, mode 0666 less the umask):
+/// never opens an existing file or follows a symlink at `path`.
+pub fn create_new(path: &Path) -> std::io::Result<std::fs::File> {
+    let mut o = std::fs::OpenOptions::new();
+    o.write(true).create_new(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        o.custom_flags(libc::O_NOFOLLOW);
+    }
+    o.open(path)
+}
+
+/// [`create_new`] of a temp path that belongs to this process (its name holds our pid): an
+/// entry already there (left by a dead process of the same pid, or planted) is unlinked — never
+/// followed — and the creation tried once more.
+fn create_temp(tmp: &Path) -> std::io::Result<std::fs::File> {
+    match create_new(tmp) {
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            std::fs::remove_file(tmp)?;
+            create_new(tmp)
+        }
+        r => r,
+    }
+}
+
+/// Write `bytes` to `path` atomically (see the module docs): a temp file created exclusively,
+/// fsynced, renamed over `path`; on any failure the temp file is removed and `path` is
+/// untouched. An existing device or FIFO at `path` is written in place instead. Parent
+/// directories are created. No overwrite checks: commands use [`Output`].
 ///
 /// ```
-/// let dir = std::env::temp_dir().join("helixreach-doc-io");
-/// let p = dir.join("a.txt");
+/// let dir = tempfile::tempdir().unwrap();
+/// let p = dir.path().join("a.txt");
 /// helixreach::io::write_atomic(&p, b"hello").unwrap();
 /// assert_eq!(std::fs::read(&p).unwrap(), b"hello");
 /// ```
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    if is_special(path) {
+        return write_in_place(path, bytes);
+    }
     let io = |source| Error::Io {
         path: path.to_path_buf(),
         source,
@@ -38,12 +86,238 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     }
     remove_stale_temps(path);
     let tmp = temp_path(path);
-    {
-        let mut f = std::fs::File::create(&tmp).map_err(io)?;
-        f.write_all(bytes).map_err(io)?;
-        f.sync_all().map_err(io)?;
+    let f = create_temp(&tmp).map_err(|source| Error::Io {
+        path: tmp.clone(),
+        source,
+    })?;
+    let written = write_sync(f, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(io(e));
     }
-    std::fs::rename(&tmp, path).map_err(io)
+    Ok(())
+}
+
+/// Write all of `bytes` into `f` and fsync it (the file is closed on return).
+fn write_sync(mut f: std::fs::File, bytes: &[u8]) -> std::io::Result<()> {
+    f.write_all(bytes)?;
+    f.sync_all()
+}
+
+/// Write `bytes` into the existing non-regular file `path` (a device, a FIFO) in place: opened
+/// for writing without creating or truncating it.
+pub fn write_in_place(path: &Path, bytes: &[u8]) -> Result<()> {
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut f = std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .map_err(io)?;
+    f.write_all(bytes).and_then(|()| f.flush()).map_err(io)
+}
+
+/// The sidecar of a CSV output `F`: `F.meta.json` beside it, holding the settings record and
+/// the columns with their units.
+pub fn sidecar_path(path: &Path) -> PathBuf {
+    let mut name = path
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_default();
+    name.push(".meta.json");
+    path.with_file_name(name)
+}
+
+/// A command's output file (see the module docs): the path, whether an existing file may be
+/// replaced (`--force`), the command's inputs (never written onto), and whether the format is
+/// binary (refused on standard output).
+///
+/// ```
+/// use helixreach::io::Output;
+/// let dir = tempfile::tempdir().unwrap();
+/// let input = dir.path().join("m.csv");
+/// std::fs::write(&input, "x\n1\n").unwrap();
+/// // Never onto an input, even with --force.
+/// let e = Output::new(&input).force(true).input(&input).check().unwrap_err();
+/// assert!(e.to_string().contains("is an input"), "{e}");
+/// // No overwrite without --force.
+/// let out = dir.path().join("o.csv");
+/// Output::new(&out).write(b"a\n").unwrap();
+/// assert!(Output::new(&out).write(b"b\n").is_err());
+/// Output::new(&out).force(true).write(b"b\n").unwrap();
+/// assert_eq!(std::fs::read(&out).unwrap(), b"b\n");
+/// ```
+#[derive(Debug, Clone)]
+pub struct Output {
+    path: PathBuf,
+    force: bool,
+    inputs: Vec<PathBuf>,
+    binary: Option<&'static str>,
+}
+
+/// What an output path is.
+enum Target {
+    Stdout,
+    Special,
+    File,
+}
+
+impl Output {
+    /// An output at `path` (`-`: standard output); no `--force`, no inputs, text format.
+    pub fn new(path: impl Into<PathBuf>) -> Self {
+        Output {
+            path: path.into(),
+            force: false,
+            inputs: Vec::new(),
+            binary: None,
+        }
+    }
+
+    /// Allow replacing an existing file (`--force`).
+    pub fn force(mut self, force: bool) -> Self {
+        self.force = force;
+        self
+    }
+
+    /// A file the command reads: never written onto, even with `--force`.
+    pub fn input(mut self, path: &Path) -> Self {
+        self.inputs.push(path.to_path_buf());
+        self
+    }
+
+    /// The format is binary (e.g. `"a PNG image"`): refused on standard output.
+    pub fn binary(mut self, what: &'static str) -> Self {
+        self.binary = Some(what);
+        self
+    }
+
+    /// The output path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn err(&self, reason: String) -> Error {
+        Error::File {
+            path: self.path.clone(),
+            reason,
+        }
+    }
+
+    fn target(&self) -> Result<Target> {
+        if is_stdout(&self.path) {
+            if let Some(what) = self.binary {
+                return Err(self.err(format!(
+                    "{what} cannot be written to standard output; give a file"
+                )));
+            }
+            return Ok(Target::Stdout);
+        }
+        for input in &self.inputs {
+            if same_path(&self.path, input) {
+                return Err(self.err(format!(
+                    "is an input of this command ({}); refusing to overwrite it, even with --force",
+                    input.display()
+                )));
+            }
+        }
+        if is_special(&self.path) {
+            return Ok(Target::Special);
+        }
+        let exists = std::fs::symlink_metadata(&self.path).is_ok();
+        if exists && !self.force {
+            return Err(self.err(
+                "already exists; refusing to overwrite it (give --force to replace it)".into(),
+            ));
+        }
+        let sidecar = sidecar_path(&self.path);
+        if exists && is_sweep_record(&sidecar) {
+            return Err(self.err(format!(
+                "is a finished sweep output (its settings record {} exists); refusing to \
+                 replace it, even with --force: remove both files first or give another path",
+                sidecar.display()
+            )));
+        }
+        check_output(&self.path)?;
+        Ok(Target::File)
+    }
+
+    /// Every check of a write (see the module docs), without writing: call it before computing.
+    pub fn check(&self) -> Result<()> {
+        if let Target::File = self.target()? {
+            // A running writer holds the lock: refused now, not after the computation.
+            drop(OutputLock::acquire(&self.path)?);
+        }
+        Ok(())
+    }
+
+    /// Write `bytes` (checked again first): to standard output, in place into a device or
+    /// FIFO, or atomically into a regular file under its [`OutputLock`].
+    pub fn write(&self, bytes: &[u8]) -> Result<()> {
+        self.write_impl(bytes, None)
+    }
+
+    /// [`Output::write`], and for a regular file its sidecar `F.meta.json` ([`sidecar_path`])
+    /// holding `meta`, written atomically just before it under the same lock (standard output,
+    /// devices and FIFOs get `bytes` only).
+    pub fn write_with_sidecar(&self, bytes: &[u8], meta: &[u8]) -> Result<()> {
+        self.write_impl(bytes, Some(meta))
+    }
+
+    fn write_impl(&self, bytes: &[u8], meta: Option<&[u8]>) -> Result<()> {
+        match self.target()? {
+            Target::Stdout => {
+                let mut out = std::io::stdout().lock();
+                out.write_all(bytes)
+                    .and_then(|()| out.flush())
+                    .map_err(|source| Error::Io {
+                        path: self.path.clone(),
+                        source,
+                    })
+            }
+            Target::Special => write_in_place(&self.path, bytes),
+            Target::File => {
+                let _lock = OutputLock::acquire(&self.path)?;
+                if let Some(meta) = meta {
+                    write_atomic(&sidecar_path(&self.path), meta)?;
+                }
+                write_atomic(&self.path, bytes)
+            }
+        }
+    }
+}
+
+/// Whether `path` is the settings record of a sweep output (a JSON object with an
+/// `items_digest`, see `crate::sweep::record`): such an output is a finished result that only
+/// its sweep (`--force`) replaces.
+fn is_sweep_record(path: &Path) -> bool {
+    let Ok(f) = std::fs::File::open(path) else {
+        return false;
+    };
+    if !f.metadata().is_ok_and(|m| m.is_file()) {
+        return false;
+    }
+    // A record is a few kB; a larger file is read only so far.
+    let mut text = String::new();
+    let _ = std::io::Read::read_to_string(&mut std::io::Read::take(f, 1 << 20), &mut text);
+    serde_json::from_str::<serde_json::Value>(&text).is_ok_and(|v| v.get("items_digest").is_some())
+}
+
+/// Whether `a` and `b` name the same existing file (same device and inode; elsewhere: equal
+/// canonical paths).
+pub fn same_path(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (std::fs::metadata(a), std::fs::metadata(b)) {
+            (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+    }
 }
 
 /// Whether process `pid` is alive (Unix `kill(pid, 0)`; elsewhere: assumed alive).
@@ -144,9 +418,9 @@ pub fn check_output(path: &Path) -> Result<()> {
             })?;
         }
     }
+    // The probe is created exclusively and never through a symlink, and removed at once.
     let probe = temp_path(path);
-    std::fs::File::create(&probe)
-        .map_err(|e| err(format!("cannot write in its directory: {e}")))?;
+    create_temp(&probe).map_err(|e| err(format!("cannot write in its directory: {e}")))?;
     let _ = std::fs::remove_file(&probe);
     Ok(())
 }
@@ -191,13 +465,7 @@ impl OutputLock {
             source,
         };
         loop {
-            let mut file = std::fs::OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(&lock_path)
-                .map_err(io)?;
+            let mut file = open_lock_file(&lock_path).map_err(io)?;
             if !try_lock(&file).map_err(io)? {
                 let mut holder = String::new();
                 let _ = std::io::Read::read_to_string(&mut file, &mut holder);
@@ -234,6 +502,50 @@ impl Drop for OutputLock {
         let _ = std::fs::remove_file(&self.lock_path);
     }
 }
+
+/// Open (creating it if absent) the lock file at `path` without following a symlink there
+/// (`O_NOFOLLOW`; a new one is created with `O_EXCL`), and check that it is a regular file with
+/// a single link: a planted symlink, FIFO, device or hard link to another file is refused, so
+/// the lock never truncates or blocks on anything but its own file.
+fn open_lock_file(path: &Path) -> std::io::Result<std::fs::File> {
+    let mut o = std::fs::OpenOptions::new();
+    o.read(true).write(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    let file = match o.clone().create_new(true).open(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => o.open(path),
+        r => r,
+    }
+    .map_err(|e| {
+        if e.raw_os_error() == Some(ELOOP) {
+            std::io::Error::other("is a symbolic link; a lock file is never followed")
+        } else {
+            e
+        }
+    })?;
+    let m = file.metadata()?;
+    #[cfg(unix)]
+    let single = {
+        use std::os::unix::fs::MetadataExt;
+        m.nlink() == 1
+    };
+    #[cfg(not(unix))]
+    let single = true;
+    if !m.is_file() || !single {
+        return Err(std::io::Error::other(
+            "is not a regular file with a single link; refusing to use it as a lock",
+        ));
+    }
+    Ok(file)
+}
+
+#[cfg(unix)]
+const ELOOP: i32 = libc::ELOOP;
+#[cfg(not(unix))]
+const ELOOP: i32 = -1;
 
 /// Try to take an exclusive `flock` without blocking: `Ok(false)` when another holds it.
 #[cfg(unix)]

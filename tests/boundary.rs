@@ -12,6 +12,7 @@
 
 use helixreach::boundary::continuum::{critical_s, critical_s_with, is_stable, ContinuumParams};
 use helixreach::directions::{fibonacci, Direction};
+use helixreach::records::columns::{Column, Kind};
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3};
 use rand::{Rng, SeedableRng};
@@ -599,6 +600,18 @@ fn bad_input_is_a_clear_error() {
 // Sweep driver
 // ---------------------------------------------------------------------------------------------
 
+/// The columns of the synthetic sweeps: an item and a value.
+const XV: [Column; 2] = [
+    Column::new("x", "", Kind::Count, "the item"),
+    Column::new("v", "", Kind::Finite, "a value computed from it"),
+];
+
+fn xv(out: &std::path::Path) -> SweepOptions {
+    SweepOptions::new(out, &["x", "v"], 1)
+        .column(XV[0])
+        .column(XV[1])
+}
+
 fn square_row(x: &u64) -> helixreach::Result<Vec<String>> {
     // A deterministic but non-trivial float computation per item.
     let mut v = *x as f64;
@@ -615,7 +628,7 @@ fn driver_is_deterministic_across_thread_counts() {
     let mut outs = vec![];
     for threads in [1, 2, 3] {
         let out = dir.path().join(format!("t{threads}.csv"));
-        let mut opts = SweepOptions::new(&out, &["x", "v"], 1);
+        let mut opts = xv(&out);
         opts.batch = 7;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -635,16 +648,10 @@ fn driver_resumes_without_recomputing_and_checkpoints_on_failure() {
     let out = dir.path().join("r.csv");
     let items: Vec<u64> = (0..40).collect();
     let full = dir.path().join("full.csv");
-    driver::run(
-        &items,
-        |x| vec![x.to_string()],
-        square_row,
-        &SweepOptions::new(&full, &["x", "v"], 1),
-    )
-    .unwrap();
+    driver::run(&items, |x| vec![x.to_string()], square_row, &xv(&full)).unwrap();
 
     // A run that fails at item 25, checkpointing every batch: the rows before it survive.
-    let mut opts = SweepOptions::new(&out, &["x", "v"], 1);
+    let mut opts = xv(&out);
     opts.batch = 5;
     opts.checkpoint_interval = std::time::Duration::ZERO;
     let e = driver::run(
@@ -662,9 +669,9 @@ fn driver_resumes_without_recomputing_and_checkpoints_on_failure() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("item 25") && e.contains("boom"), "{e}");
-    // (Checkpoints go beside the output; record + header + rows.)
+    // (Checkpoints go beside the output; header + rows.)
     let partial = std::fs::read_to_string(driver::partial_path(&out)).unwrap();
-    assert_eq!(partial.lines().count(), 2 + 25 + 4, "{partial}");
+    assert_eq!(partial.lines().count(), 1 + 25 + 4, "{partial}");
 
     // Resume: only the missing 11 items are computed, and the result equals the full run.
     let count = AtomicUsize::new(0);
@@ -684,7 +691,9 @@ fn driver_resumes_without_recomputing_and_checkpoints_on_failure() {
     assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&full).unwrap());
 
     // A different header refuses to resume; a wrong key is an error naming the row.
-    let mut other = SweepOptions::new(&out, &["x", "w"], 1);
+    let mut other = SweepOptions::new(&out, &["x", "w"], 1)
+        .column(XV[0])
+        .column(Column::new("w", "", Kind::Finite, "a value"));
     other.resume = true;
     let e = driver::run(&items, |x| vec![x.to_string()], square_row, &other).unwrap_err();
     assert!(e.to_string().contains("header"), "{e}");
@@ -692,7 +701,7 @@ fn driver_resumes_without_recomputing_and_checkpoints_on_failure() {
         &items,
         |x| vec![(x + 1).to_string()],
         square_row,
-        &SweepOptions::new(&dir.path().join("k.csv"), &["x", "v"], 1),
+        &xv(&dir.path().join("k.csv")),
     )
     .unwrap_err();
     assert!(e.to_string().contains("key"), "{e}");
@@ -703,25 +712,19 @@ fn driver_shards_concatenate_to_the_whole() {
     let dir = tempfile::tempdir().unwrap();
     let items: Vec<u64> = (0..23).collect();
     let full = dir.path().join("full.csv");
-    driver::run(
-        &items,
-        |x| vec![x.to_string()],
-        square_row,
-        &SweepOptions::new(&full, &["x", "v"], 1),
-    )
-    .unwrap();
+    driver::run(&items, |x| vec![x.to_string()], square_row, &xv(&full)).unwrap();
     let mut body = String::new();
     for i in 0..3 {
         let p = dir.path().join(format!("s{i}.csv"));
-        let mut o = SweepOptions::new(&p, &["x", "v"], 1);
+        let mut o = xv(&p);
         o.shard = Some(Shard::new(i, 3).unwrap());
         driver::run(&items, |x| vec![x.to_string()], square_row, &o).unwrap();
         let t = std::fs::read_to_string(&p).unwrap();
-        // Skip the settings record and the header.
-        body.extend(t.lines().skip(2).map(|l| format!("{l}\n")));
+        // Skip the header.
+        body.extend(t.lines().skip(1).map(|l| format!("{l}\n")));
     }
     let full = std::fs::read_to_string(&full).unwrap();
-    assert_eq!(format!("x,v\n{body}"), full.split_once('\n').unwrap().1);
+    assert_eq!(format!("x,v\n{body}"), full);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -761,19 +764,16 @@ fn cli_boundary_resume_shards_merge_and_threads() {
     let a = std::fs::read_to_string(&one).unwrap();
     assert_eq!(a, std::fs::read_to_string(&two).unwrap());
     let lines: Vec<&str> = a.lines().collect();
-    assert!(
-        lines[0].starts_with("# helixreach-settings"),
-        "{}",
-        lines[0]
-    );
+    let meta = std::fs::read_to_string(format!("{one}.meta.json")).unwrap();
+    assert!(meta.contains("\"sweep\": \"boundary\""), "{meta}");
     assert_eq!(
-        lines[1],
+        lines[0],
         "dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error,refused"
     );
-    assert_eq!(lines.len(), 62);
+    assert_eq!(lines.len(), 61);
     // Rows are in Fibonacci order and agree with the library.
     let dirs = fibonacci(60, false).unwrap();
-    for (l, d) in lines[2..].iter().zip(&dirs) {
+    for (l, d) in lines[1..].iter().zip(&dirs) {
         let f: Vec<&str> = l.split(',').collect();
         assert_eq!(f[0].parse::<f64>().unwrap(), d.kappa);
         let s: f64 = f[3].parse().unwrap();
@@ -782,9 +782,18 @@ fn cli_boundary_resume_shards_merge_and_threads() {
         assert_eq!((f[7], f[8]), ("continuum", "tol=1e-9"));
     }
 
-    // Resume from a truncated file reproduces the full output.
+    // Resume from a checkpoint of the first 19 rows (the record beside it names those bytes)
+    // reproduces the full output.
     let res = p("res.csv");
-    std::fs::write(&res, lines[..20].join("\n") + "\n").unwrap();
+    let cut = lines[..20].join("\n") + "\n";
+    std::fs::write(format!("{res}.partial"), &cut).unwrap();
+    let mut meta: serde_json::Value = serde_json::from_str(&meta).unwrap();
+    meta["csv"] = serde_json::json!({
+        "rows": 19,
+        "bytes": cut.len(),
+        "fnv1a": helixreach::sweep::record::fnv1a_hex(cut.as_bytes()),
+    });
+    std::fs::write(format!("{res}.partial.meta.json"), meta.to_string()).unwrap();
     run(&["--out", &res, "--resume"], 2);
     assert_eq!(std::fs::read_to_string(&res).unwrap(), a);
 

@@ -5,8 +5,8 @@
 //!
 //! Library tests use a cheap synthetic sweep (`x → x²`); CLI tests run the real binary.
 
+use helixreach::records::columns::{Column, Kind};
 use helixreach::sweep::driver::{self, partial_path, Shard, SweepOptions};
-use helixreach::sweep::merge::merge;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -20,17 +20,34 @@ fn square(x: &u64) -> helixreach::Result<Vec<String>> {
     Ok(vec![x.to_string(), (x * x).to_string()])
 }
 
+/// The columns of the synthetic sweep: an item and its square.
+const COLS: [Column; 2] = [
+    Column::new("x", "", Kind::Count, "the item"),
+    Column::new("x2", "", Kind::Count, "its square"),
+];
+
 fn opts(out: &Path) -> SweepOptions {
     SweepOptions::new(out, &["x", "x2"], 1)
+        .column(COLS[0])
+        .column(COLS[1])
         .sweep("squares")
         .setting("power", 2)
+}
+
+fn merge(
+    inputs: &[PathBuf],
+    key_columns: usize,
+    out: &Path,
+    force: bool,
+) -> helixreach::Result<helixreach::sweep::merge::MergeSummary> {
+    helixreach::sweep::merge::merge_with(inputs, key_columns, out, force, Some(&COLS))
 }
 
 fn items(n: u64) -> Vec<u64> {
     (0..n).collect()
 }
 
-/// The data rows of a sweep CSV (record and header skipped).
+/// The data rows of a sweep CSV (header skipped).
 fn data_rows(path: &Path) -> Vec<String> {
     let t = std::fs::read_to_string(path).unwrap();
     t.lines()
@@ -283,7 +300,10 @@ fn resume_refuses_mismatched_settings_and_names_them() {
     let o = cli(&["boundary", "--fibonacci", "8", "--out", s(&out)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
-    let first = text.lines().next().unwrap();
+    let sidecar = std::fs::read_to_string(helixreach::io::sidecar_path(&out)).unwrap();
+    let first = serde_json::from_str::<serde_json::Value>(&sidecar)
+        .unwrap()
+        .to_string();
     for f in [
         "\"method\":\"continuum\"",
         "\"tol\":",
@@ -356,6 +376,21 @@ fn resume_refuses_rows_outside_the_item_set() {
     std::fs::write(&out, &t).unwrap();
     let mut o = opts(&out);
     o.resume = true;
+    // The bytes no longer match the record's digest: refused as such.
+    let e = driver::run(&items(10), key, square, &o)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("does not match its settings record"), "{e}");
+    // With a matching record, the row itself is refused.
+    let side = helixreach::io::sidecar_path(&out);
+    let mut meta: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&side).unwrap()).unwrap();
+    meta["csv"] = serde_json::json!({
+        "rows": 11,
+        "bytes": t.len(),
+        "fnv1a": helixreach::sweep::record::fnv1a_hex(t.as_bytes()),
+    });
+    std::fs::write(&side, meta.to_string()).unwrap();
     let e = driver::run(&items(10), key, square, &o)
         .unwrap_err()
         .to_string();
@@ -448,11 +483,12 @@ fn stale_temp_files_of_killed_runs_are_removed() {
     for p in &stale {
         assert!(!p.exists(), "{} left behind", p.display());
     }
-    let names: Vec<_> = std::fs::read_dir(dir.path())
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
-    assert_eq!(names, vec![std::ffi::OsString::from("t.csv")]);
+    names.sort();
+    assert_eq!(names, ["t.csv", "t.csv.meta.json"]);
 }
 
 #[test]
@@ -561,13 +597,38 @@ fn merge_refuses_gaps_disorder_duplicates_and_mixed_settings() {
     assert!(e.contains("expected 1/3"), "{e}");
     let e = err(&[sh[0].clone(), shard(1, 3), sh[2].clone()]);
     assert!(e.contains("power: `2` vs `3`"), "{e}");
-    // An unfinished (truncated) shard.
+    // An unfinished shard (a checkpoint given as a shard) holds too few rows.
     let cut = dir.path().join("cut.csv");
+    let mut o = opts(&cut);
+    o.shard = Some(Shard::new(1, 3).unwrap());
+    o.batch = 2;
+    o.checkpoint_interval = Duration::ZERO;
+    let e = driver::run(
+        &items(n),
+        key,
+        |x| {
+            if *x == 11 {
+                Err(helixreach::Error::invalid("x", x, "boom"))
+            } else {
+                square(x)
+            }
+        },
+        &o,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("item 11"), "{e}");
+    let e = err(&[sh[0].clone(), partial_path(&cut), sh[2].clone()]);
+    assert!(e.contains("must hold 8 rows, it holds 5"), "{e}");
+    // A shard cut after writing (its bytes no longer those its record describes).
     let t = std::fs::read_to_string(&sh[1]).unwrap();
-    let keep: Vec<&str> = t.lines().take(4).collect();
-    std::fs::write(&cut, keep.join("\n") + "\n").unwrap();
+    std::fs::write(&cut, &t[..t.len() - 3]).unwrap();
+    std::fs::copy(
+        helixreach::io::sidecar_path(&sh[1]),
+        helixreach::io::sidecar_path(&cut),
+    )
+    .unwrap();
     let e = err(&[sh[0].clone(), cut, sh[2].clone()]);
-    assert!(e.contains("must hold 8 rows, it holds 2"), "{e}");
+    assert!(e.contains("does not match its settings record"), "{e}");
     // A file without a record (e.g. hand-made) cannot be checked: refused.
     let bare = dir.path().join("bare.csv");
     std::fs::write(&bare, "x,x2\n0,0\n").unwrap();
@@ -1135,7 +1196,8 @@ fn a_refused_der_direction_is_a_row_and_the_sweep_finishes_and_resumes() {
     let rows = data_rows(&out);
     assert_eq!(rows.len(), 3, "{rows:?}");
     let f: Vec<&str> = rows[1].split(',').collect();
-    assert_eq!(f[3], "NaN", "{}", rows[1]);
+    // No s*: empty fields, never a NaN.
+    assert_eq!(f[3], "", "{}", rows[1]);
     assert!(rows[1].contains("kappa = 0 plane"), "{}", rows[1]);
     for r in [&rows[0], &rows[2]] {
         let f: Vec<&str> = r.split(',').collect();

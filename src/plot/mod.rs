@@ -172,28 +172,34 @@ pub(crate) fn save<F: Figure>(fig: &F, out: &Path) -> Result<()> {
             crate::io::write_atomic(out, text.as_bytes())
         }
         Format::Png => {
-            // The bitmap backend encodes by extension (through the `image` crate), so the temp
-            // file in the target directory keeps `.png`; it is renamed over `out` when complete.
-            let io = |source| Error::Io {
-                path: out.to_path_buf(),
-                source,
-            };
-            if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
-                std::fs::create_dir_all(parent).map_err(io)?;
+            // Drawn into memory and encoded here; the one writer puts the bytes in place.
+            let (w, h) = fig.size();
+            let mut rgb = vec![0u8; w as usize * h as usize * 3];
+            {
+                let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+                root.fill(&WHITE).map_err(|e| draw_err(e.to_string()))?;
+                fig.draw(&root).map_err(|e| draw_err(e.to_string()))?;
+                root.present().map_err(|e| draw_err(e.to_string()))?;
             }
-            let name = out.file_name().unwrap_or_default().to_string_lossy();
-            let tmp = out.with_file_name(format!(".{name}.{}.tmp.png", std::process::id()));
-            let written = (|| {
-                let root = BitMapBackend::new(&tmp, fig.size()).into_drawing_area();
-                root.fill(&WHITE).map_err(|e| e.to_string())?;
-                fig.draw(&root).map_err(|e| e.to_string())?;
-                root.present().map_err(|e| e.to_string())
-            })();
-            if let Err(e) = written {
-                let _ = std::fs::remove_file(&tmp);
-                return Err(draw_err(e));
-            }
-            std::fs::rename(&tmp, out).map_err(io)
+            let bytes = encode_png(&rgb, w, h).map_err(|e| draw_err(e.to_string()))?;
+            crate::io::write_atomic(out, &bytes)
         }
     }
+}
+
+/// PNG bytes of an RGB buffer (row-major, 3 bytes per pixel).
+pub(crate) fn encode_png(
+    rgb: &[u8],
+    w: u32,
+    h: u32,
+) -> std::result::Result<Vec<u8>, png::EncodingError> {
+    let mut bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut bytes, w, h);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut writer = enc.write_header()?;
+        writer.write_image_data(rgb)?;
+    }
+    Ok(bytes)
 }

@@ -14,24 +14,24 @@ use crate::math::Real;
 pub struct BoundaryRecord<'a> {
     /// The direction (`dir_kappa,dir_tau,dir_omega`).
     pub dir: DirColumns,
-    /// Critical distance s* (`inf`: stable up to the search limit).
-    #[serde(serialize_with = "csv_out::real")]
+    /// Critical distance s* (`inf`: stable up to the search limit; empty: refused).
+    #[serde(serialize_with = "csv_out::real_or_empty")]
     pub s_star: Real,
-    /// κ of the boundary point.
-    #[serde(serialize_with = "csv_out::real")]
+    /// κ of the boundary point (empty: refused).
+    #[serde(serialize_with = "csv_out::real_or_empty")]
     pub kappa: Real,
-    /// τ of the boundary point.
-    #[serde(serialize_with = "csv_out::real")]
+    /// τ of the boundary point (empty: refused).
+    #[serde(serialize_with = "csv_out::real_or_empty")]
     pub tau: Real,
-    /// ω of the boundary point.
-    #[serde(serialize_with = "csv_out::real")]
+    /// ω of the boundary point (empty: refused).
+    #[serde(serialize_with = "csv_out::real_or_empty")]
     pub omega: Real,
     /// Boundary method (`continuum`, `der`, …).
     pub method: &'a str,
     /// Method resolution (tolerance, n).
     pub resolution: &'a str,
     /// The method's error estimate of s*, in exponent notation (`1.5e-9`).
-    #[serde(serialize_with = "csv_out::real_exp")]
+    #[serde(serialize_with = "csv_out::real_exp_or_empty")]
     pub est_error: Real,
     /// Why the method gave no s* for this direction (empty when it did): the row of a refused
     /// direction has `nan` in `s_star`, `kappa`, `tau`, `omega` and `est_error`, so a sweep

@@ -296,6 +296,18 @@ pub fn real_exp<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::
     s.collect_str(&format_args!("{x:e}"))
 }
 
+/// Field adapter: [`real_exp`], NaN (not computed) as an empty field.
+pub fn real_exp_or_empty<S: serde::Serializer>(
+    x: &Real,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    if x.is_nan() {
+        s.serialize_str("")
+    } else {
+        real_exp(x, s)
+    }
+}
+
 /// Field adapter: a real by [`fmt_real`], NaN (not computed) as an empty field.
 pub fn real_or_empty<S: serde::Serializer>(x: &Real, s: S) -> std::result::Result<S::Ok, S::Error> {
     if x.is_nan() {

@@ -20,6 +20,7 @@ pub mod boundary;
 pub mod centerline;
 pub mod check;
 pub mod clamp_runs;
+pub mod columns;
 pub mod compare;
 pub mod csv_out;
 pub mod detect;

@@ -164,9 +164,7 @@ pub fn trajectory_csv(traj: &Trajectory) -> Result<String> {
 
 /// The sidecar of a trajectory output `F`: `F.meta.json` (see [`TrajectoryMeta`]).
 pub fn meta_path(path: &Path) -> PathBuf {
-    let mut name = path.as_os_str().to_os_string();
-    name.push(".meta.json");
-    PathBuf::from(name)
+    crate::io::sidecar_path(path)
 }
 
 /// One run of consecutive points of the same phase (the phase annotation of a trajectory).

@@ -15,12 +15,14 @@
 //! - **Existing outputs are not overwritten unless asked.** If `OUT` or `OUT.partial` exists, the
 //!   run is refused unless `resume` (continue it) or `force` (replace it, once complete) is set.
 //!   Replacing an output that was made with *different* settings always needs `force`.
-//! - **Every output records its settings.** Its first line is a
-//!   [`SettingsRecord`] (`# helixreach-settings {json}`): tool
-//!   version, sweep name, the caller's settings, columns, size and digest of the whole item set,
-//!   shard. `resume` continues `OUT.partial` (else `OUT`) only when its record equals the
-//!   current one, listing every difference otherwise; a row whose key is not an item of the run,
-//!   or a duplicate key, is refused (never dropped).
+//! - **Every output records its settings** in its sidecar `OUT.meta.json`
+//!   ([`SettingsRecord`], [`super::record`]): tool version, sweep name, the caller's settings,
+//!   columns (with units), size and digest of the whole item set, shard, and the digest of the
+//!   CSV. The CSV itself is plain: its first line is the header. `resume` continues
+//!   `OUT.partial` (else `OUT`) only when its record equals the current one, listing every
+//!   difference otherwise; every row read back is checked as a computed row is (its fields by
+//!   their columns' rules, [`crate::records::columns`]); a row whose key is not an item of the
+//!   run, or a duplicate key, is refused (never dropped).
 //! - **One writer per output.** An exclusive [`OutputLock`] is held for
 //!   the whole run; a second writer fails at once with a clear error. Temp files of killed
 //!   runs (`OUT.<pid>.tmp`) are removed.
@@ -34,7 +36,8 @@
 //! - **Parallel at the outermost level only** (rayon workers over the items of a batch) and
 //!   **deterministic**: rows are in input order and each row is a pure function of its item, so
 //!   the output is identical for any thread count.
-//! - **Standard output and devices**: `OUT = -` streams the record, header and rows to stdout in
+//! - **Standard output and devices**: `OUT = -` streams the header and rows (plain CSV, no
+//!   sidecar) to stdout in
 //!   input order as batches finish; an existing non-regular `OUT` (`/dev/stdout`, a FIFO) is
 //!   written in place the same way, never replaced by a rename. Neither can be resumed.
 //! - **Sharding**: `shard = I/N` (0-based) keeps the contiguous block `[I·n/N, (I+1)·n/N)` of
@@ -48,15 +51,18 @@
 //! let dir = tempfile::tempdir().unwrap();
 //! let out = dir.path().join("squares.csv");
 //! let items: Vec<u32> = (1..=5).collect();
+//! use helixreach::records::columns::{Column, Kind};
 //! let opts = SweepOptions::new(&out, &["x", "x2"], 1)
+//!     .column(Column::new("x", "", Kind::Count, "the item"))
+//!     .column(Column::new("x2", "", Kind::Count, "its square"))
 //!     .sweep("squares")
 //!     .setting("power", 2);
 //! let summary = run(&items, |x| vec![x.to_string()], |x| Ok(vec![x.to_string(), (x * x).to_string()]), &opts)?;
 //! assert_eq!(summary.computed, 5);
 //! let text = std::fs::read_to_string(&out).unwrap();
-//! let (record, rows) = text.split_once('\n').unwrap();
-//! assert!(record.starts_with("# helixreach-settings {") && record.contains(r#""power":"2""#));
-//! assert_eq!(rows, "x,x2\n1,1\n2,4\n3,9\n4,16\n5,25\n");
+//! assert_eq!(text, "x,x2\n1,1\n2,4\n3,9\n4,16\n5,25\n");
+//! let meta = std::fs::read_to_string(dir.path().join("squares.csv.meta.json")).unwrap();
+//! assert!(meta.contains(r#""power": "2""#), "{meta}");
 //!
 //! // Running again over the finished file is refused; `resume` with other settings too.
 //! assert!(run(&items, |x| vec![x.to_string()], |x| Ok(vec![x.to_string(), "0".into()]), &opts).is_err());
@@ -67,9 +73,10 @@
 //! # Ok::<(), helixreach::Error>(())
 //! ```
 
-use super::record::{SettingsRecord, SweepFile};
+use super::record::{csv_bytes, SettingsRecord, SweepFile};
 use crate::error::{Error, Result};
-use crate::io::{is_special, is_stdout, write_atomic, OutputLock};
+use crate::io::{is_special, is_stdout, OutputLock};
+use crate::records::columns::Column;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::{IsTerminal, Write};
@@ -162,6 +169,9 @@ pub struct SweepOptions {
     pub progress: bool,
     /// Items per parallel batch (0: automatic, from the measured throughput).
     pub batch: usize,
+    /// Each column's unit and rule, by default from [`crate::records::columns::COLUMNS`]; a
+    /// column without one is refused before the run ([`SweepOptions::column`] gives one).
+    pub columns: Vec<Column>,
 }
 
 impl SweepOptions {
@@ -180,7 +190,17 @@ impl SweepOptions {
             checkpoint_interval: Duration::from_secs(10),
             progress: false,
             batch: 0,
+            columns: crate::records::columns::columns_of(header),
         }
+    }
+
+    /// Give the column of `c.name` its unit and rule (for a column not in
+    /// [`crate::records::columns::COLUMNS`]).
+    pub fn column(mut self, c: Column) -> Self {
+        if let Some(k) = self.header.iter().position(|h| h == c.name) {
+            self.columns[k] = c;
+        }
+        self
     }
 
     /// Set the sweep's name.
@@ -224,18 +244,6 @@ pub fn partial_path(out: &Path) -> PathBuf {
     out.with_file_name(name)
 }
 
-/// Serialize the record, header and finished rows (in input order) as CSV.
-fn to_csv(record: &SettingsRecord, header: &[String], rows: &[Option<Row>]) -> Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(record.line().into_bytes());
-    let ser = |e: csv::Error| Error::invalid("row", "", e.to_string());
-    w.write_record(header).map_err(ser)?;
-    for r in rows.iter().flatten() {
-        w.write_record(r).map_err(ser)?;
-    }
-    w.into_inner()
-        .map_err(|e| Error::invalid("row", "", e.to_string()))
-}
-
 /// CSV text of some rows (no header).
 fn rows_csv<'a>(rows: impl Iterator<Item = &'a Row>) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -266,7 +274,11 @@ fn prepare_file(
     let partial = partial_path(out);
     crate::io::remove_stale_temps(out);
     crate::io::remove_stale_temps(&partial);
-    let (out_exists, partial_exists) = (out.exists(), partial.exists());
+    let exists = |p: &Path| {
+        std::fs::symlink_metadata(p).is_ok()
+            || std::fs::symlink_metadata(crate::io::sidecar_path(p)).is_ok()
+    };
+    let (out_exists, partial_exists) = (exists(out), exists(&partial));
     if !opts.resume && !opts.force && (out_exists || partial_exists) {
         let what = if out_exists {
             "it already exists".to_string()
@@ -286,7 +298,10 @@ fn prepare_file(
     }
     let mismatch = |path: &Path, file: &Option<SettingsRecord>, action: &str| -> Option<Error> {
         let reason = match file {
-            None => "it has no settings record (not written by this helixreach version)".into(),
+            None => format!(
+                "it has no settings record {} (not written by this helixreach version)",
+                crate::io::sidecar_path(path).display()
+            ),
             Some(r) if r == record => return None,
             Some(r) => format!(
                 "it was made with other settings (file vs this run): {}",
@@ -317,13 +332,13 @@ fn prepare_file(
     } else {
         return Ok(0);
     };
-    let file = SweepFile::read(&source)?;
-    if let Some(e) = mismatch(&source, &file.record, "resume") {
+    let file = SweepFile::read(&source, Some(&opts.columns))?;
+    if let Some(e) = mismatch(&source, &Some(file.record), "resume") {
         return Err(e);
     }
     let index: HashMap<&Row, usize> = keys.iter().enumerate().map(|(i, k)| (k, i)).collect();
     let mut resumed = 0;
-    let line0 = 3; // record, header, first row
+    let line0 = 2; // header, first row
     for (n, row) in file.rows.into_iter().enumerate() {
         let bad = |reason: String| crate::io::bad_line(&source, n + line0, "key", reason);
         if row.len() != opts.header.len() {
@@ -462,6 +477,8 @@ where
             ),
         ));
     }
+    crate::records::columns::check_known(&opts.header, &opts.columns)
+        .map_err(|e| Error::invalid("columns", opts.header.join(","), e))?;
     let all_keys: Vec<Row> = items.iter().map(&key).collect();
     if let Some(k) = all_keys.iter().find(|k| k.len() != opts.key_columns) {
         return Err(Error::invalid(
@@ -520,7 +537,7 @@ where
     let resumed = match &mut sink {
         Sink::File { .. } => prepare_file(opts, &record, keys, &mut rows)?,
         Sink::Stream(w) => {
-            w.write_all(&to_csv(&record, &opts.header, &[])?)
+            w.write_all(&csv_bytes(&opts.header, std::iter::empty())?)
                 .map_err(stream_err)?;
             0
         }
@@ -563,6 +580,10 @@ where
                         row.join(","),
                         format!("has {} fields, the header has {ncols}", row.len()),
                     ))
+                } else if let Err(e) =
+                    crate::records::columns::check_row_with(&opts.header, &opts.columns, &row)
+                {
+                    Err(Error::invalid("row", row.join(","), e))
                 } else if row[..opts.key_columns] != keys[i][..] {
                     Err(Error::invalid(
                         "row",
@@ -595,7 +616,7 @@ where
         if let Some((i, e)) = failure {
             progress.bar.abandon();
             if matches!(sink, Sink::File { .. }) && computed > 0 {
-                write_atomic(&partial, &to_csv(&record, &opts.header, &rows)?)?;
+                SweepFile::write(&partial, &record, &opts.columns, rows.iter().flatten())?;
             }
             return Err(Error::Item {
                 key: crate::error::compact_number_text(keys[i].join(",")),
@@ -608,7 +629,7 @@ where
         {
             // The line first: whoever sees the checkpoint file has seen the line.
             progress.batch_done(computed, true);
-            write_atomic(&partial, &to_csv(&record, &opts.header, &rows)?)?;
+            SweepFile::write(&partial, &record, &opts.columns, rows.iter().flatten())?;
             checkpoints += 1;
             first_checkpoint.get_or_insert(t0.elapsed());
             last_checkpoint = Instant::now();
@@ -619,13 +640,8 @@ where
     progress.bar.finish_and_clear();
     match &mut sink {
         Sink::File { .. } => {
-            write_atomic(&opts.out, &to_csv(&record, &opts.header, &rows)?)?;
-            if partial.exists() {
-                std::fs::remove_file(&partial).map_err(|source| Error::Io {
-                    path: partial.clone(),
-                    source,
-                })?;
-            }
+            SweepFile::write(&opts.out, &record, &opts.columns, rows.iter().flatten())?;
+            SweepFile::remove(&partial)?;
         }
         Sink::Stream(w) => w.flush().map_err(stream_err)?,
     }

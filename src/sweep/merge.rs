@@ -1,7 +1,9 @@
 //! Join the shard outputs of a sweep (`--shard I/N`, see [`super::driver`]) into the output of
 //! the whole item set, refusing anything that is not exactly that:
 //!
-//! - every input has a [`SettingsRecord`]; the records agree except for the shard;
+//! - every input has its [`SettingsRecord`] (its sidecar `F.meta.json`, [`super::record`]);
+//!   the records agree except for the shard; each input is read once (a FIFO works) and every
+//!   row is parsed and checked by its columns' rules, as a computed row is;
 //! - the inputs are the shards `0/N, 1/N, …, N−1/N`, each once, in that order (a missing,
 //!   repeated or misplaced shard is named);
 //! - each shard holds exactly its block's number of rows (`Shard::range(items)`), no key twice;
@@ -10,7 +12,8 @@
 //!
 //! The merged file carries the common record with no shard — the same record a single
 //! unsharded run writes, so it can be resumed or compared. It is written like a sweep output:
-//! locked, atomically, and an existing output is replaced only with `force`.
+//! locked, atomically with its sidecar, and an existing output is replaced only with `force`
+//! (never one of the inputs); `-` streams the plain CSV to standard output.
 
 use super::driver::Shard;
 use super::record::{keys_digest, SettingsRecord, SweepFile};
@@ -35,37 +38,63 @@ fn file_err(path: &Path, reason: String) -> Error {
 }
 
 /// Merge the shard files `inputs` (in shard order) into `out` (see the module docs).
-/// `key_columns` leading fields identify a row.
+/// `key_columns` leading fields identify a row; every row is checked by its column's rule in
+/// [`crate::records::columns::COLUMNS`].
 pub fn merge(
     inputs: &[PathBuf],
     key_columns: usize,
     out: &Path,
     force: bool,
 ) -> Result<MergeSummary> {
+    merge_with(inputs, key_columns, out, force, None)
+}
+
+/// [`merge`] with the columns' rules `cols` (one per column, for a sweep whose columns are not
+/// in [`crate::records::columns::COLUMNS`]; `None`: those).
+pub fn merge_with(
+    inputs: &[PathBuf],
+    key_columns: usize,
+    out: &Path,
+    force: bool,
+    cols: Option<&[crate::records::columns::Column]>,
+) -> Result<MergeSummary> {
     if inputs.is_empty() {
         return Err(Error::invalid("inputs", 0, "give the shard files to merge"));
     }
-    crate::io::check_output(out)?;
-    let _lock = crate::io::OutputLock::acquire(out)?;
-    if out.exists() && !force {
-        return Err(file_err(
-            out,
-            "already exists; refusing to overwrite it (--force replaces it)".into(),
-        ));
+    for p in inputs {
+        if crate::io::same_path(out, p) {
+            return Err(file_err(
+                out,
+                format!(
+                    "is an input of this merge ({}); refusing to overwrite it, even with --force",
+                    p.display()
+                ),
+            ));
+        }
     }
+    let streaming = crate::io::is_stdout(out) || crate::io::is_special(out);
+    let _lock = if streaming {
+        None
+    } else {
+        crate::io::check_output(out)?;
+        let lock = crate::io::OutputLock::acquire(out)?;
+        let sidecar = crate::io::sidecar_path(out);
+        if (out.exists() || sidecar.exists()) && !force {
+            return Err(file_err(
+                out,
+                "already exists; refusing to overwrite it (--force replaces it)".into(),
+            ));
+        }
+        Some(lock)
+    };
     let mut common: Option<(SettingsRecord, Vec<String>)> = None;
     let mut keys: Vec<Vec<String>> = Vec::new();
     let mut seen = HashSet::new();
     let mut all_rows = Vec::new();
     let mut count = None;
     for (k, p) in inputs.iter().enumerate() {
-        let f = SweepFile::read(p)?;
-        let Some(rec) = f.record else {
-            return Err(file_err(
-                p,
-                "has no settings record, so its shard and settings cannot be checked".into(),
-            ));
-        };
+        let f = SweepFile::read(p, cols)?;
+        let rec = f.record;
         let shard: Shard = match &rec.shard {
             Some(s) => s.parse()?,
             None => {
@@ -147,7 +176,7 @@ pub fn merge(
             if !seen.insert(key.clone()) {
                 return Err(crate::io::bad_line(
                     p,
-                    j + 3,
+                    j + 2,
                     "key",
                     format!(
                         "`{}` already present in an earlier input (overlapping shards?)",
@@ -181,14 +210,12 @@ pub fn merge(
             "the joined keys are not the sweep's item set in order (digest mismatch)",
         ));
     }
-    let mut w = csv::Writer::from_writer(rec.line().into_bytes());
-    let ser = |e: csv::Error| file_err(out, e.to_string());
-    w.write_record(&header).map_err(ser)?;
-    for r in &all_rows {
-        w.write_record(r).map_err(ser)?;
-    }
-    let bytes = w.into_inner().map_err(|e| file_err(out, e.to_string()))?;
-    crate::io::write_atomic(out, &bytes)?;
+    debug_assert_eq!(header, rec.columns);
+    let cols = match cols {
+        Some(c) => c.to_vec(),
+        None => crate::records::columns::columns_of(&rec.columns),
+    };
+    SweepFile::write(out, &rec, &cols, &all_rows)?;
     Ok(MergeSummary {
         rows: all_rows.len(),
         shards: inputs.len(),

@@ -193,14 +193,10 @@ pub fn render_gif(
         path: out.to_path_buf(),
         reason: format!("GIF encoding failed: {e}"),
     };
-    if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(io)?;
-    }
-    let tmp = crate::io::temp_path(out);
+    // Encoded into memory; the one writer puts the bytes in place.
+    let mut bytes = Vec::new();
     let result = (|| -> Result<()> {
-        let file = std::fs::File::create(&tmp).map_err(io)?;
-        let mut enc = gif::Encoder::new(std::io::BufWriter::new(file), w as u16, h as u16, &[])
-            .map_err(enc_err)?;
+        let mut enc = gif::Encoder::new(&mut bytes, w as u16, h as u16, &[]).map_err(enc_err)?;
         enc.set_repeat(gif::Repeat::Infinite).map_err(enc_err)?;
         let delay = (delay_ms as Real / 10.0).round() as u16;
         let mut done = 0;
@@ -229,17 +225,12 @@ pub fn render_gif(
                 }
             }
         }
-        let mut inner = enc.into_inner().map_err(io)?;
+        let inner = enc.into_inner().map_err(io)?;
         inner.flush().map_err(io)?;
         Ok(())
     })();
-    match result {
-        Ok(()) => std::fs::rename(&tmp, out).map_err(io),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+    result?;
+    crate::io::write_atomic(out, &bytes)
 }
 
 /// What [`render_trajectory`] draws and writes.

@@ -312,7 +312,13 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
     let new = helixreach::records::csv_out::to_csv(&lines)?;
     let (header, body) = new.split_once('\n').unwrap_or((&new, ""));
     let mut text = format!("{header}\n");
-    if let Ok(old) = std::fs::read_to_string(path) {
+    // Rows of other methods are kept from an existing regular file (a FIFO or device is only
+    // written).
+    let old = match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => std::fs::read_to_string(path).ok(),
+        _ => None,
+    };
+    if let Some(old) = old {
         for l in old.lines().skip(1) {
             if !l.starts_with(&format!("{method},")) && !l.is_empty() {
                 text.push_str(l);

@@ -19,6 +19,7 @@
 
 use anyhow::Context;
 use helixreach::directions::Direction;
+use helixreach::io::Output;
 use helixreach::planning::check::{CheckOptions, Checker};
 use helixreach::planning::rig::{parse_xyz, Rig};
 use std::io::Write;
@@ -53,7 +54,7 @@ pub struct Args {
     /// last-edge frame of an N-edge discrete helix (the seed's Descartes targets: N = 100).
     #[arg(long, default_value_t = 0)]
     pub held_edges: usize,
-    /// Per-row CSV output.
+    /// Per-row CSV output (`-`: standard output, before the JSON summary).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Step bound (rad): a larger step of any joint between two rows is a finding.
@@ -68,10 +69,22 @@ pub struct Args {
     /// Report the findings and exit 0 (the gate's exit code is 64 + the finding bits).
     #[arg(long)]
     pub report_only: bool,
+    /// Replace an existing output file (never one of this command's inputs).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Run `helixreach check`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let out = args.out.as_ref().map(|o| {
+        Output::new(o)
+            .force(args.force)
+            .input(&args.joints)
+            .input(std::path::Path::new(&args.rig))
+    });
+    if let Some(o) = &out {
+        o.check()?;
+    }
     let mut rig = Rig::load(&args.rig)?;
     if let Some(c) = &args.clamp {
         rig = rig
@@ -110,8 +123,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         rotation_tolerance: positive("--rotation-tolerance", args.rotation_tolerance)?,
     };
     let rep = checker.check(&traj, &opt)?;
-    if let Some(out) = &args.out {
-        helixreach::io::write_atomic(out, rep.rows_csv()?.as_bytes())?;
+    if let Some(out) = &out {
+        out.write(rep.rows_csv()?.as_bytes())?;
     }
     let mut stdout = std::io::stdout().lock();
     writeln!(stdout, "{}", serde_json::to_string_pretty(&rep.to_json())?)?;

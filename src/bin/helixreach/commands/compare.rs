@@ -10,6 +10,7 @@
 use anyhow::bail;
 use helixreach::boundary::{continuum, der};
 use helixreach::compare::{self, Measured};
+use helixreach::io::Output;
 use helixreach::math::Real;
 use helixreach::plot::records::read_boundary;
 use rayon::prelude::*;
@@ -40,9 +41,12 @@ pub struct Args {
     /// Number of DER edges (method der).
     #[arg(long, default_value_t = 100)]
     pub n_edges: usize,
-    /// Output CSV.
+    /// Output CSV (`-`: standard output, before the JSON summary).
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace an existing output file (never one of this command's inputs).
+    #[arg(long)]
+    pub force: bool,
 }
 
 fn simulate(m: &[Measured], method: Method, n_edges: usize) -> anyhow::Result<Vec<Option<Real>>> {
@@ -80,6 +84,11 @@ fn simulate(m: &[Measured], method: Method, n_edges: usize) -> anyhow::Result<Ve
 
 /// Run `helixreach compare`.
 pub fn run(a: Args) -> anyhow::Result<()> {
+    let mut out = Output::new(&a.out).force(a.force).input(&a.measured);
+    if let Some(b) = &a.boundary {
+        out = out.input(b);
+    }
+    out.check()?;
     let set = compare::read_measured(&a.measured)?;
     for n in &set.notes {
         eprintln!("note: {n}");
@@ -105,7 +114,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             m.dir.omega
         );
     }
-    c.write_csv(&a.out)?;
+    out.write(c.to_csv()?.as_bytes())?;
     println!(
         "{}",
         serde_json::to_string_pretty(&c.summary_json(&set.rows))?

@@ -13,10 +13,11 @@
 use super::args::RigOverrideArgs;
 use anyhow::Context;
 use helixreach::directions::Direction;
+use helixreach::io::Output;
 use helixreach::planning::planner::{Planner, ReachClass};
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::records::trajectory::{
-    message_json, message_yaml, meta_path, trajectory_meta_json, Channels, JointTrajectoryMsg,
+    message_json, message_yaml, trajectory_meta_json, Channels, JointTrajectoryMsg,
 };
 use helixreach::sweep::reach::s_star_of;
 use std::path::PathBuf;
@@ -46,7 +47,7 @@ pub struct Args {
     /// Overrides of the rig's settings.
     #[command(flatten)]
     pub overrides: RigOverrideArgs,
-    /// Output trajectory CSV.
+    /// Output trajectory CSV (`-`: standard output).
     #[arg(long)]
     pub out: PathBuf,
     /// Also write the arm's trajectory as a ROS 2 `trajectory_msgs/msg/JointTrajectory` in JSON
@@ -66,6 +67,9 @@ pub struct Args {
     /// such a ray writes nothing and exits 3.
     #[arg(long)]
     pub allow_partial: bool,
+    /// Replace an existing output file (never one of this command's inputs).
+    #[arg(long)]
+    pub force: bool,
 }
 
 fn parse_direction(s: &str) -> anyhow::Result<Direction> {
@@ -84,12 +88,25 @@ fn parse_direction(s: &str) -> anyhow::Result<Direction> {
 /// The rig overrides of `--margin`, `--clamp` and `--no-reconfiguration`.
 /// Run `helixreach plan`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    helixreach::io::check_output(&args.out)?;
-    for j in [&args.json, &args.yaml, &args.goal_yaml]
+    let rig_file = std::path::Path::new(&args.rig);
+    let out = Output::new(&args.out).force(args.force).input(rig_file);
+    out.check()?;
+    // Every further output: never onto the rig or the trajectory CSV.
+    // (output, which message: 0 JSON, 1 YAML, 2 goal YAML)
+    let extra: Vec<(Output, usize)> = [&args.json, &args.yaml, &args.goal_yaml]
         .into_iter()
-        .flatten()
-    {
-        helixreach::io::check_output(j)?;
+        .enumerate()
+        .filter_map(|(k, p)| p.as_ref().map(|j| (j, k)))
+        .map(|(j, k)| {
+            let o = Output::new(j)
+                .force(args.force)
+                .input(rig_file)
+                .input(&args.out);
+            (o, k)
+        })
+        .collect();
+    for (j, _) in &extra {
+        j.check()?;
     }
     let dir = parse_direction(&args.direction)?;
     let rig = Rig::load(&args.rig)?;
@@ -140,20 +157,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let traj = planner.trajectory(&plan)?;
     let meta = trajectory_meta_json(&traj)?;
-    let mut files = vec![(args.out.clone(), traj.to_csv()?)];
+    let mut files = vec![(out, traj.to_csv()?)];
     let arm = JointTrajectoryMsg::new(&traj, Channels::Arm)?;
-    if let Some(j) = &args.json {
-        files.push((j.clone(), message_json(&arm)?));
+    for (o, k) in extra {
+        let text = match k {
+            0 => message_json(&arm)?,
+            1 => message_yaml(&arm, false),
+            _ => message_yaml(&arm, true),
+        };
+        files.push((o, text));
     }
-    if let Some(y) = &args.yaml {
-        files.push((y.clone(), message_yaml(&arm, false)));
-    }
-    if let Some(y) = &args.goal_yaml {
-        files.push((y.clone(), message_yaml(&arm, true)));
-    }
-    for (path, text) in files {
-        helixreach::io::write_atomic(&path, text.as_bytes())?;
-        helixreach::io::write_atomic(&meta_path(&path), meta.as_bytes())?;
+    for (o, text) in files {
+        o.write_with_sidecar(text.as_bytes(), meta.as_bytes())?;
     }
     eprintln!(
         "{}: s* = {}, s_reached = {} of {} (bifurcation assumed: {assumed}) ({} of {} waypoints), \

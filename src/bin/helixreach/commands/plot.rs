@@ -57,11 +57,21 @@ pub struct Args {
     /// Output figure; the format follows the extension (.png or .svg).
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace an existing output file (never one of this command's inputs).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Run `helixreach plot`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     // Check the output before reading inputs: a wrong extension should not wait for a big CSV.
+    let mut out = helixreach::io::Output::new(&args.out)
+        .force(args.force)
+        .binary("a figure");
+    for i in args.input.iter().chain(&args.input2) {
+        out = out.input(i);
+    }
+    out.check()?;
     plot::Format::from_path(&args.out)?;
     let multi = args.kind == Kind::ErrorVsS;
     if args.input.len() > 1 && !multi {

@@ -25,6 +25,9 @@ pub struct Args {
     /// Seed of the sampling.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Replace an existing --write-disabled file (never the URDF itself).
+    #[arg(long)]
+    pub force: bool,
 }
 
 fn shape_text(s: &Shape) -> String {
@@ -44,6 +47,13 @@ fn shape_text(s: &Shape) -> String {
     }
 }
 
+/// The `--write-disabled` output: never onto the URDF read.
+fn disabled_out(args: &Args, path: &std::path::Path) -> helixreach::io::Output {
+    helixreach::io::Output::new(path)
+        .force(args.force)
+        .input(std::path::Path::new(&args.robot))
+}
+
 /// Run `helixreach robot`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     use helixreach::limits::{check_range, MAX_DISABLED_SAMPLES, MIN_DISABLED_SAMPLES};
@@ -55,7 +65,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             MIN_DISABLED_SAMPLES,
             MAX_DISABLED_SAMPLES,
         )?;
-        helixreach::io::check_output(path)?;
+        disabled_out(&args, path).check()?;
     }
     let m = RobotModel::load(&args.robot, args.tip.as_deref())?;
     println!("robot {} ({})", m.name(), m.source());
@@ -108,7 +118,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(path) = &args.write_disabled {
         let d = DisabledPairs::compute(&m, args.samples, args.seed)?;
         let name = m.source().strip_prefix("builtin:").unwrap_or(m.source());
-        helixreach::io::write_atomic(path, d.to_toml(name).as_bytes())?;
+        disabled_out(&args, path).write(d.to_toml(name).as_bytes())?;
         eprintln!(
             "wrote {} disabled pairs ({} samples) to {}",
             d.disabled.len(),

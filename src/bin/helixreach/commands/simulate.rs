@@ -21,7 +21,7 @@ use helixreach::rod::dynamics::presets::{Preset, STANDARD_GRAVITY};
 use helixreach::rod::dynamics::{simulate_ray, SimParams, Simulation, Unload};
 use helixreach::Error;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `helixreach simulate`.
 #[derive(Debug, clap::Args)]
@@ -106,14 +106,21 @@ pub struct Args {
         allow_negative_numbers = true
     )]
     hold: Real,
-    /// Output CSV (t,s,kappa,tau,omega,error,energy[,phase]), written atomically.
+    /// Output CSV (t,s,kappa,tau,omega,error,energy[,phase]), written atomically (`-`:
+    /// standard output, before the JSON summary).
     #[arg(long)]
     out: PathBuf,
+    /// Replace an existing output file.
+    #[arg(long)]
+    force: bool,
 }
 
 /// Run `helixreach simulate`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     use helixreach::limits::{check_size, MAX_N_EDGES};
+    // The output is checked before the simulation: a refused path fails at once.
+    let out = helixreach::io::Output::new(&args.out).force(args.force);
+    out.check()?;
     check_size("--n-edges", args.n_edges, MAX_N_EDGES)?;
     let [k, t, w] = <[Real; 3]>::try_from(args.direction.as_slice())
         .map_err(|_| Error::invalid("direction", format!("{:?}", args.direction), "give K,T,W"))?;
@@ -182,10 +189,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     })?;
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
-    write_series(&args.out, &sim)?;
-    if let Some(c) = &args.centerline {
+    out.write(helixreach::records::series::series_csv(&sim)?.as_bytes())?;
+    if let Some(c) = &centerline_out {
         let text = helixreach::records::centerline::centerline_csv(&sim.centerlines, &placement)?;
-        helixreach::io::write_atomic(c, text.as_bytes())?;
+        c.write(text.as_bytes())?;
     }
     let json = summary_json(&dir, &p, &sim, wall, &resolved.source, &gravity_base);
     let stdout = std::io::stdout();
@@ -205,14 +212,6 @@ pub fn progress_bar(s_max: Real) -> indicatif::ProgressBar {
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     bar
-}
-
-fn write_series(path: &Path, sim: &Simulation) -> anyhow::Result<()> {
-    helixreach::io::write_atomic(
-        path,
-        helixreach::records::series::series_csv(sim)?.as_bytes(),
-    )?;
-    Ok(())
 }
 
 fn summary_json(
