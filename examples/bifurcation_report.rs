@@ -1,5 +1,5 @@
 //! The bifurcation type and the hysteresis of the seed's 42 labelled directions
-//! (`../shared/seed-data/bifurcation_examples.csv`), from DER statics and, optionally, from DER
+//! (`tests/data/seed/bifurcation_examples.csv`), from DER statics and, optionally, from DER
 //! dynamics with unloading (the seed's protocol and resolution: 101 vertices, ray speed 0.1).
 //!
 //! ```text
@@ -53,8 +53,8 @@ fn main() -> anyhow::Result<()> {
         }
         i += 1;
     }
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/seed-data/bifurcation_examples.csv");
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/seed/bifurcation_examples.csv");
     let path = std::env::var("HELIXREACH_SEED_DATA")
         .map(|d| PathBuf::from(d).join("bifurcation_examples.csv"))
         .unwrap_or(path);

@@ -1,5 +1,5 @@
 //! Path quality on the seed's directions, side by side with the seed's own trajectories
-//! (issue 10): each of the 58 runs in `../shared/seed-data/trajectories.csv` is planned with its
+//! (issue 10): each of the 58 runs in the seed's `trajectories.csv` (`tests/data/seed/`) is planned with its
 //! own clamp, roll `fixed`, at margin 0 (as the seed drove) and 0.1, and its load + hold + unload
 //! trajectory is compared with the executed one (out and back) on
 //!
@@ -15,6 +15,9 @@
 //!
 //! Run: `cargo run --release --example seed_paths -- [--rig RIG] [--margin M] [--roll fixed|motor]
 //! [--azimuths N] [--out FILE]`
+
+#[path = "../tests/common/seed.rs"]
+mod seed;
 
 use helixreach::directions::Direction;
 use helixreach::math::Real;
@@ -122,7 +125,7 @@ fn main() -> anyhow::Result<()> {
     anyhow::ensure!(n_az >= 1, "--azimuths: must be at least 1, got 0");
     helixreach::limits::check_size("--azimuths", n_az, 64)?;
     let azimuths = azimuth_grid(n_az);
-    let seed = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data");
+    let seed = seed::unpack(&std::env::temp_dir().join("helixreach-seed-data"));
     let runs = read_runs(&seed)?;
     let rig = Rig::load(&rig_name)?;
     let mut csv = String::from(

@@ -1,6 +1,6 @@
 //! Why does the planner miss a seed direction the real robot drove? (issue 10)
 //!
-//! For each run of `../shared/seed-data/trajectories.csv` (or the runs named on the command
+//! For each run of the seed's `trajectories.csv` (the repository's `tests/data/seed/`) (or the runs named on the command
 //! line) with its own clamp, roll `fixed`, margin 0:
 //!
 //! 1. our plan: how far it gets (`s_reached` of `s_end` = s*) and why it stops;
@@ -16,6 +16,9 @@
 //!    passes within half a joint step of it).
 //!
 //! Run: `cargo run --release --example seed_witness -- [FILE ...] [--all]`
+
+#[path = "../tests/common/seed.rs"]
+mod seed;
 
 use helixreach::math::{tol, Real};
 use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
@@ -311,7 +314,7 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if let Some(i) = args.iter().position(|a| a == "--levels") {
         let ds: Vec<usize> = args[i + 1].split(',').map(|x| x.parse().unwrap()).collect();
-        let seed = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data");
+        let seed = seed::unpack(&std::env::temp_dir().join("helixreach-seed-data"));
         let runs = read_seed_runs(&seed.join("trajectories.csv"))?;
         let base = Rig::load("sawyer-seed")?;
         let rows: Vec<anyhow::Result<String>> =
@@ -321,7 +324,7 @@ fn main() -> anyhow::Result<()> {
         }
         return Ok(());
     }
-    let seed = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data");
+    let seed = seed::unpack(&std::env::temp_dir().join("helixreach-seed-data"));
     let runs = read_seed_runs(&seed.join("trajectories.csv"))?;
     let base = Rig::load("sawyer-seed")?;
     let pick: Vec<&Run> = if args.iter().any(|a| a == "--all") || args.is_empty() {

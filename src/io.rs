@@ -639,8 +639,7 @@ pub struct CsvInput {
 }
 
 impl CsvInput {
-    /// Open `path` (fields trimmed, `#` comment lines such as a sweep's settings record skipped)
-    /// and read its header.
+    /// Open `path` (fields trimmed, `#` comment lines skipped) and read its header.
     pub fn open(path: &Path) -> Result<Self> {
         let file_err = |e: csv::Error| Error::File {
             path: path.to_path_buf(),

@@ -1,6 +1,6 @@
 //! Bifurcation type at s* (issue 12), checked against
-//! - the seed's labelled DER runs (`../shared/seed-data/bifurcation_examples.csv`, relative to
-//!   the crate root; `HELIXREACH_SEED_DATA` may point elsewhere; fails loudly when absent): the
+//! - the seed's labelled DER runs (`bifurcation_examples.csv` of `tests/data/seed/`, relative to
+//!   the crate root): the
 //!   type of a subset spanning both types (all 42 at n = 100 are in the README, from
 //!   `examples/bifurcation_report.rs`);
 //! - the seed's dynamic return points (static s_return within the measured accuracy);

@@ -1,5 +1,5 @@
 //! `helixreach check` against the seed experiment's real data: every joint trajectory the real
-//! Sawyer executed (`../shared/seed-data/trajectories/`, with each run's own clamp position) must
+//! Sawyer executed (`tests/data/seed/trajectories/`, with each run's own clamp position) must
 //! pass the embedded `sawyer-seed` rig — inside the joint limits, free of self, scene and rod
 //! collision — and its FK must lie on the ray's pose curve (an independent check of the rig's
 //! frame conventions). The step statistics are compared with the figures `trajectories.csv`

@@ -1,8 +1,8 @@
 //! Measured versus simulated boundaries (issue 12): the `compare` library and command.
 //!
 //! Checked against an independent recomputation of the paper's statistics from the written CSV,
-//! the seed's 119 measured snap points (read from `../shared/seed-data/`, relative to the crate
-//! root; `HELIXREACH_SEED_DATA` may point elsewhere; the tests fail loudly when absent), and
+//! the seed's 119 measured snap points (read from `tests/data/seed/`, relative to the crate
+//! root), and
 //! every kind of bad input.
 
 mod common;

@@ -8,7 +8,7 @@
 //!   forward reachability with self-motion closure checked by bisection to the step bound): the
 //!   planner finds every ray the reference finds.
 //!
-//! The seed data is read from `../shared/seed-data/` relative to the crate root.
+//! The seed data is read from `tests/data/seed/` (unpacked by `tests/common`).
 
 mod common;
 use common::seed_dir;

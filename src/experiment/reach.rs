@@ -149,14 +149,8 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
                 s.directions
             ),
         );
-        // Concatenate the rows (without the settings record and the repeated header).
-        let body = |t: &str| -> String {
-            t.lines()
-                .filter(|l| !l.starts_with('#'))
-                .skip(1)
-                .map(|l| format!("{l}\n"))
-                .collect()
-        };
+        // Concatenate the rows (without the repeated header).
+        let body = |t: &str| -> String { t.lines().skip(1).map(|l| format!("{l}\n")).collect() };
         csv.push_str(&body(&text));
         fan_csv.push_str(&body(&ftext));
         rows.extend(r);

@@ -2,7 +2,7 @@
 //!
 //! - [`driver`]: the generic resumable, checkpointed, locked, deterministic parallel map over
 //!   items with its data-safety rules (used by `boundary`, `reach` and every other sweep).
-//! - [`record`]: the settings record written as the first line of every sweep output.
+//! - [`record`]: the settings record of every sweep output, in its sidecar `F.meta.json`.
 //! - [`merge`]: joining shard outputs, with completeness, order and settings checks.
 //! - [`reach`]: the reachability sweep of a rig.
 

@@ -1,26 +1,19 @@
-//! Helpers shared by the integration tests: where the seed experiment's real data lives.
-//!
-//! The data is `../shared/seed-data/` beside the crate (CI keeps `shared/` beside the clone), or
-//! the folder named by `HELIXREACH_SEED_DATA`. A missing folder fails the test loudly: the tests
-//! that read it assert facts about the real rig and must not pass without it.
+//! Helpers shared by the integration tests: the seed experiment's real data, kept as a subset
+//! in the repository (`tests/data/seed/`, see its `SOURCE.md`) and unpacked into the build's
+//! test folder on first use ([`seed`]). Nothing is read from outside the repository.
 
 pub mod png;
+pub mod seed;
 
 use std::path::PathBuf;
 
-/// The seed-data folder (holding `trajectories.csv`); panics naming where it looked.
+/// The seed-data folder (holding `trajectories.csv`, `trajectories/`, `measured_boundary.csv`,
+/// `bifurcation_examples.csv`), unpacked from `tests/data/seed/`.
 #[allow(dead_code)]
 pub fn seed_dir() -> PathBuf {
-    let mut dirs = vec![PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/seed-data")];
-    if let Ok(d) = std::env::var("HELIXREACH_SEED_DATA") {
-        dirs.insert(0, PathBuf::from(d));
-    }
-    for d in &dirs {
-        if d.join("trajectories.csv").is_file() {
-            return d.clone();
-        }
-    }
-    panic!("the seed data is missing: looked in {dirs:?} (set HELIXREACH_SEED_DATA to the seed-data folder)");
+    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| seed::unpack(&PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("seed-data")))
+        .clone()
 }
 
 /// One file of the seed data; panics when it is missing.

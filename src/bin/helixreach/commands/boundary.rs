@@ -2,8 +2,8 @@
 //! CSV (`dir_kappa,dir_tau,dir_omega,s_star,kappa,tau,omega,method,resolution,est_error`, rows in
 //! input order; `s_star = inf` when the ray is stable up to `s_max`). Parallel over directions,
 //! checkpointed, resumable and shardable through `helixreach::sweep::driver`, whose data-safety
-//! rules apply: the output's first line records the settings (method, resolution, tolerance,
-//! scan step, ν, direction-set digest, shard, tool version); an existing output is continued only
+//! rules apply: the output's sidecar `OUT.meta.json` records the settings (method, resolution,
+//! tolerance, scan step, ν, direction-set digest, shard, tool version); an existing output is continued only
 //! with `--resume` (same settings) or replaced only with `--force` (once the new result is
 //! complete); checkpoints go to `OUT.partial`; `--out -` streams to stdout.
 //!

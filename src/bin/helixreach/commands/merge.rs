@@ -1,6 +1,7 @@
 //! `helixreach merge`: join the shard outputs of a sweep (`boundary`, `reach`, … run with
 //! `--shard I/N`) into one CSV in item order. Give the files in shard order (0/N, 1/N, …).
-//! Refused (see `helixreach::sweep::merge`): an input without a settings record, inputs made
+//! Refused (see `helixreach::sweep::merge`): an input without its settings record
+//! (`F.meta.json`) or whose bytes do not match it, a row that breaks its column's rule, inputs made
 //! with different settings, a missing, repeated or misplaced shard, an unfinished shard, a key
 //! present twice. The output is locked and written atomically; an existing output is replaced
 //! only with `--force`.
