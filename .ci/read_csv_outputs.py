@@ -35,7 +35,7 @@ def write_outputs(binary, d):
     run(binary, "layout", "--rig", "sawyer-seed", "--fibonacci", "2", "--quarter",
         "--region", "0.70:0.90,-0.35:0.05,-0.145:-0.145", "--spacing", "0.2",
         "--placements", "1", "--out", p("layout"))
-    run(binary, "plan", "--direction", "0.6,0.8,0", "--waypoints", "20", "--out", p("trajectory.csv"))
+    run(binary, "plan", "--direction", "0.6,0.8,0", "--waypoints", "20", "--allow-partial", "--out", p("trajectory.csv"))
     run(binary, "simulate", "--direction", "1,0,0", "--s-max", "0.3", "--out", p("series.csv"))
     with open(p("measured.csv"), "w") as f:
         f.write("dir_kappa,dir_tau,dir_omega,s_measured\n1,0,0,6.3\n0.6,0.8,0,7.1\n")

@@ -28,7 +28,6 @@ use helixreach::planning::self_motion::{self, Held, WalkSettings, Q};
 use helixreach::planning::witness::{self, read_seed_runs, SeedRun as Run};
 use helixreach::robot::{IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
-use std::path::PathBuf;
 
 fn max_diff(a: &[Real], b: &[Real]) -> Real {
     a.iter()

@@ -1030,10 +1030,8 @@ fn resume_refuses_rows_of_a_changed_urdf_or_pair_list() {
     let o = reach(&[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
-    assert!(
-        text.lines().next().unwrap().contains("sawyer.urdf="),
-        "{text}"
-    );
+    let record = std::fs::read_to_string(helixreach::io::sidecar_path(&out)).unwrap();
+    assert!(record.contains("sawyer.urdf="), "{record}");
     // Control: unchanged files resume.
     let o = reach(&["--resume"]);
     assert!(o.status.success(), "{}", stderr(&o));

@@ -180,6 +180,7 @@ fn inputs() -> Inputs {
         "0.6,0.8,0",
         "--waypoints",
         "20",
+        "--allow-partial",
         "--out",
         s(&trajectory),
     ]);
@@ -221,6 +222,7 @@ fn every_command_writes_fifos_and_devices_in_place() {
             "0.6,0.8,0",
             "--waypoints",
             "20",
+            "--allow-partial",
             "--out",
             "OUT",
         ],
@@ -236,6 +238,7 @@ fn every_command_writes_fifos_and_devices_in_place() {
             "0.6,0.8,0",
             "--waypoints",
             "20",
+            "--allow-partial",
             "--out",
             s(&t2),
             "--force",
@@ -363,12 +366,28 @@ fn commands_never_overwrite_inputs_finished_results_or_locked_paths() {
         "1,0,0",
         "--waypoints",
         "20",
+        "--allow-partial",
         "--out",
         s(&i.trajectory),
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
     assert_eq!(std::fs::read(&i.trajectory).unwrap(), traj);
+
+    // A trajectory (its sidecar is no sweep record) is replaced with --force, sidecar and all.
+    ok(&[
+        "plan",
+        "--direction",
+        "1,0,0",
+        "--waypoints",
+        "20",
+        "--allow-partial",
+        "--force",
+        "--out",
+        s(&i.trajectory),
+    ]);
+    let meta = std::fs::read_to_string(sidecar_path(&i.trajectory)).unwrap();
+    assert!(meta.contains("\"format\""), "{meta}");
 
     // A finished sweep output (it has a settings record) is never replaced by another command.
     let finished = std::fs::read(&i.boundary).unwrap();
@@ -379,6 +398,7 @@ fn commands_never_overwrite_inputs_finished_results_or_locked_paths() {
             "1,0,0",
             "--waypoints",
             "20",
+            "--allow-partial",
             "--force",
             "--out",
         ],
