@@ -63,8 +63,12 @@ fn labels(path: &Path) -> anyhow::Result<Vec<Label>> {
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let seed = PathBuf::from(args.first().map_or("../shared/seed-data", |s| s.as_str()));
-    let dir = PathBuf::from(args.get(1).map_or("/tmp/obs", |s| s.as_str()));
+    let (Some(seed), Some(dir)) = (args.first(), args.get(1)) else {
+        anyhow::bail!(
+            "usage: detect_report SEED DIR [--fit-clamp] [--samples OUT_DIR] (see the module docs)"
+        );
+    };
+    let (seed, dir) = (PathBuf::from(seed), PathBuf::from(dir));
     let fit_clamp = args.iter().any(|a| a == "--fit-clamp");
     let samples_dir = args
         .iter()

@@ -89,7 +89,8 @@ impl Column {
 /// The reachability classes (`unreachable`: decided by a layout pre-check).
 const CLASSES: &[&str] = &["testable", "partial", "blocked", "unreachable"];
 
-/// Every column of every sweep output (`boundary`, `reach`, `layout` rays, `bifurcation`).
+/// Every column of every sweep output (`boundary`, `reach`, `layout` rays, `bifurcation`,
+/// `detect --runs`).
 pub const COLUMNS: &[Column] = &[
     col(
         "dir_kappa",
@@ -237,18 +238,21 @@ pub const COLUMNS: &[Column] = &[
         "where the rod returns to the helix on unloading (statics)",
     ),
     col("hysteresis", "1", Kind::ExtendedOrEmpty, "s* − s_return"),
-    col(
-        "reason",
-        "",
-        Kind::Text,
-        "why the type is degenerate (empty otherwise)",
-    ),
-    col(
-        "refused",
-        "",
-        Kind::Text,
-        "why the boundary method gave no s* for the direction (empty when it did)",
-    ),
+    col("reason", "", Kind::Text, "why: bifurcation, why the type is degenerate (empty otherwise); detect, the outcome (snap, gradual, noise, …)"),
+    col("observations", "", Kind::Text, "the observation file of a recorded run, as the run list names it"),
+    col("s_measured", "1", Kind::Distance, "where the measured error jumped on loading (empty: no snap seen)"),
+    col("confidence", "", Kind::Choice(&["high", "low", "none"]), "confidence of the detected snap"),
+    col("s_reversal", "1", Kind::ExtendedOrEmpty, "largest s of the recorded run"),
+    col("s_predicted", "1", Kind::Distance, "the continuum s* of the direction"),
+    col("marker_arc", "1", Kind::ExtendedOrEmpty, "fitted marker arc length (fraction of the rod from the clamp)"),
+    col("fit_rms", "m", Kind::ExtendedOrEmpty, "RMS residual of the camera extrinsics fit"),
+    col("clamp_x", "m", Kind::Finite, "clamp position x (robot base frame)"),
+    col("clamp_y", "m", Kind::Finite, "clamp position y (robot base frame)"),
+    col("clamp_z", "m", Kind::Finite, "clamp position z (robot base frame)"),
+    col("samples", "", Kind::Count, "samples in the observation file"),
+    col("flagged", "", Kind::Count, "samples not used (dropped marker, outlier, off the pose curve)"),
+    col("notes", "", Kind::Text, "notes that do not change the outcome (;-separated)"),
+    col("refused", "", Kind::Text, "why the boundary method gave no s* for the direction (empty when it did)"),
 ];
 
 /// The column named `name`, if it is one of [`COLUMNS`].
@@ -374,6 +378,7 @@ mod tests {
             crate::records::REACH_HEADER,
             crate::records::bifurcation::BifurcationRecord::HEADER,
             crate::records::layout::RayRecord::HEADER,
+            crate::records::detect::DetectRunRecord::HEADER,
         ] {
             check_known(header, &columns_of(header)).unwrap();
         }
