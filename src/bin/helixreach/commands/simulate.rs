@@ -144,8 +144,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.centerline_stride == 0 {
         return Err(Error::invalid("--centerline-stride", 0, "must be >= 1").into());
     }
-    if let Some(c) = &args.centerline {
-        helixreach::io::check_output(c)?;
+    let centerline_out = args.centerline.as_ref().map(|c| {
+        helixreach::io::Output::new(c)
+            .force(args.force)
+            .input(&args.out)
+    });
+    if let Some(c) = &centerline_out {
+        c.check()?;
     }
     let gravity_base = match (&args.gravity_vector, args.gravity) {
         (Some(g), _) => {
