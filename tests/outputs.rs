@@ -271,7 +271,10 @@ fn every_command_writes_fifos_and_devices_in_place() {
         ],
         header,
     );
-    survives_fifo_and_device(&["check", "--joints", &traj, "--out", "OUT"], "");
+    survives_fifo_and_device(
+        &["check", "--joints", &traj, "--report-only", "--out", "OUT"],
+        "",
+    );
     let mut merge = vec!["merge", "--out", "OUT"];
     merge.extend(i.shards.iter().map(|p| s(p)));
     survives_fifo_and_device(&merge, header);
