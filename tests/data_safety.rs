@@ -1222,7 +1222,7 @@ fn a_refused_der_direction_is_a_row_and_the_sweep_finishes_and_resumes() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("b.csv:4") && stderr(&o).contains("refused"),
+        stderr(&o).contains("b.csv:3") && stderr(&o).contains("refused"),
         "{}",
         stderr(&o)
     );

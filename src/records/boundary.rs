@@ -144,7 +144,8 @@ mod tests {
                 "0",
                 "continuum",
                 "1e-10",
-                "1.5e-9"
+                "1.5e-9",
+                ""
             ]
         );
         let r = BoundaryRecord::new(&d, 6.25, "der", "n=100", 0.0);

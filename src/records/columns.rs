@@ -87,7 +87,7 @@ impl Column {
 }
 
 /// The reachability classes (`unreachable`: decided by a layout pre-check).
-const CLASSES: &[&str] = &["testable", "partial", "blocked", "unreachable"];
+const CLASSES: &[&str] = &["testable", "partial", "blocked", "undecided", "unreachable"];
 
 /// Every column of every sweep output (`boundary`, `reach`, `layout` rays, `bifurcation`,
 /// `detect --runs`).
@@ -157,7 +157,7 @@ pub const COLUMNS: &[Column] = &[
         "class",
         "",
         Kind::Choice(CLASSES),
-        "testable, partial, blocked (or unreachable: decided before planning)",
+        "testable, partial, blocked, undecided (search stopped at its node bound) or unreachable (decided before planning)",
     ),
     col(
         "cause",
@@ -200,6 +200,12 @@ pub const COLUMNS: &[Column] = &[
         "",
         Kind::Count,
         "self-motion reconfigurations at a held pose",
+    ),
+    col(
+        "backoffs",
+        "",
+        Kind::Count,
+        "back-off moves (unloading to change configuration) in the plan",
     ),
     col(
         "bifurcation",
