@@ -59,8 +59,12 @@ def check(path):
     if os.path.exists(meta):
         with open(meta) as f:
             m = json.load(f)
-        assert m["columns"] == header, f"{meta}: columns {m['columns']} != {header}"
-        assert [c["name"] for c in m["column_units"]] == header, f"{meta}: units do not name the columns"
+        if m.get("format") == "helixreach trajectory":
+            # A trajectory's sidecar: its points are the file's rows.
+            assert m["points"] == len(body), f"{meta}: {m['points']} points, the file has {len(body)} rows"
+        else:
+            assert m["columns"] == header, f"{meta}: columns {m['columns']} != {header}"
+            assert [c["name"] for c in m["column_units"]] == header, f"{meta}: units do not name the columns"
     return len(body)
 
 
