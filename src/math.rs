@@ -31,18 +31,47 @@ pub type Iso3 = nalgebra::Isometry3<Real>;
 /// A unit quaternion.
 pub type Quat = nalgebra::UnitQuaternion<Real>;
 
+/// Read exactly three numbers `[x, y, z]` (rig files): a TOML array of another length is an
+/// error naming its length, never truncated or padded.
+/// `#[serde(deserialize_with = "crate::math::exact3::deserialize")]`.
+///
+/// ```
+/// #[derive(serde::Deserialize)]
+/// struct T {
+///     #[serde(deserialize_with = "helixreach::math::exact3::deserialize")]
+///     v: [f64; 3],
+/// }
+/// assert_eq!(toml::from_str::<T>("v = [1.0, 2.0, 3.0]").unwrap().v, [1.0, 2.0, 3.0]);
+/// let e = toml::from_str::<T>("v = [1.0, 2.0, 3.0, 4.0]").err().unwrap().to_string();
+/// assert!(e.contains("3 numbers") && e.contains("4"), "{e}");
+/// ```
+pub mod exact3 {
+    use super::Real;
+    use serde::{Deserialize, Deserializer};
+    /// Read `[x, y, z]`, refusing any other length.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<[Real; 3], D::Error> {
+        let v = Vec::<Real>::deserialize(d)?;
+        <[Real; 3]>::try_from(v.as_slice()).map_err(|_| {
+            serde::de::Error::custom(format!(
+                "expected 3 numbers [x, y, z], got {} ({v:?})",
+                v.len()
+            ))
+        })
+    }
+}
+
 /// Serde for a [`Vec3`] as the array `[x, y, z]` (rig files, records):
 /// `#[serde(with = "crate::math::vec3_array")]`.
 pub mod vec3_array {
-    use super::{Real, Vec3};
-    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    use super::Vec3;
+    use serde::{Deserializer, Serialize, Serializer};
     /// Write `[x, y, z]`.
     pub fn serialize<S: Serializer>(v: &Vec3, s: S) -> Result<S::Ok, S::Error> {
         [v.x, v.y, v.z].serialize(s)
     }
     /// Read `[x, y, z]`.
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
-        <[Real; 3]>::deserialize(d).map(Vec3::from)
+        super::exact3::deserialize(d).map(Vec3::from)
     }
 }
 

@@ -701,3 +701,148 @@ fn check_of_an_absurd_joint_step_finishes() {
         "{e}"
     );
 }
+
+/// Low-severity cases of the "never lie" audit: each error names the file or flag, the field
+/// and the value as given; negative numbers after a flag are its value.
+#[test]
+fn low_severity_inputs_name_file_field_and_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let w = |name: &str, text: &str| std::fs::write(d.join(name), text).unwrap();
+    let rig_with = |from: &str, to: &str| {
+        let base = rig_text();
+        assert!(base.contains(from), "{from}");
+        base.replacen(from, to, 1)
+    };
+    let lim = r#"<limit lower="-1" upper="1" velocity="1" effort="1"/>"#;
+    w(
+        "arr4.toml",
+        &rig_with("d1 = [0.0, 1.0, 0.0]", "d1 = [0.0, 1.0, 0.0, 5.0]"),
+    );
+    w(
+        "speed.toml",
+        &rig_with("end_speed = 0.01", "end_speed = 1e-320"),
+    );
+    w(
+        "weights.toml",
+        &rig_with(
+            "joint_weights = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]",
+            "joint_weights = [1.0, 1.0, 1.0, 1e308, 1.0, 1.0, 1.0]",
+        ),
+    );
+    w("nolimit.urdf", &urdf("", "0 0 0"));
+    w(
+        "vel.urdf",
+        &urdf(
+            r#"<limit lower="-1" upper="1" velocity="-2" effort="1"/>"#,
+            "0 0 0",
+        ),
+    );
+    w(
+        "twice.urdf",
+        &urdf(lim, "0 0 0").replace(
+            "</robot>",
+            r#"<link name="tip2"/><joint name="j1" type="fixed"><parent link="tip"/><child link="tip2"/></joint></robot>"#,
+        ),
+    );
+    let cases: Vec<(Vec<&str>, Vec<&str>)> = vec![
+        (
+            vec![
+                "reach",
+                "--rig",
+                "arr4.toml",
+                "--fibonacci",
+                "1",
+                "--out",
+                "a.csv",
+            ],
+            vec!["arr4.toml", "d1", "got 4"],
+        ),
+        (
+            vec![
+                "reach",
+                "--rig",
+                "speed.toml",
+                "--fibonacci",
+                "1",
+                "--out",
+                "a.csv",
+            ],
+            vec!["speed.toml", "planner.end_speed", "1e-320"],
+        ),
+        (
+            vec![
+                "reach",
+                "--rig",
+                "weights.toml",
+                "--fibonacci",
+                "1",
+                "--out",
+                "a.csv",
+            ],
+            vec!["weights.toml", "planner.joint_weights[3]", "1e308"],
+        ),
+        (
+            vec!["fk", "--robot", "nolimit.urdf", "--joints", "0"],
+            vec!["nolimit.urdf", "joint j1 limit"],
+        ),
+        (
+            vec!["fk", "--robot", "vel.urdf", "--joints", "0"],
+            vec!["vel.urdf", "joint j1 limit velocity", "-2"],
+        ),
+        (
+            vec!["fk", "--robot", "twice.urdf", "--joints", "0"],
+            vec!["twice.urdf", "joint j1", "share"],
+        ),
+        // Negative values are values, not flags.
+        (
+            vec!["boundary", "--fibonacci", "-5", "--out", "a.csv"],
+            vec!["--fibonacci", "-5"],
+        ),
+        (
+            vec![
+                "boundary",
+                "--fibonacci",
+                "4",
+                "--shard",
+                "-1/2",
+                "--out",
+                "a.csv",
+            ],
+            vec!["--shard", "-1/2"],
+        ),
+        (
+            vec![
+                "boundary",
+                "--fibonacci",
+                "4",
+                "--tol",
+                "-1e-12",
+                "--out",
+                "a.csv",
+            ],
+            vec!["tol", "-1e-12"],
+        ),
+        // simulate checks its output before computing.
+        (
+            vec![
+                "simulate",
+                "--direction",
+                "1,1,1",
+                "--out",
+                "no/such/dir/s.csv",
+            ],
+            vec!["no/such/dir"],
+        ),
+    ];
+    for (args, needles) in cases {
+        let o = cli_30s(d, &args);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+        assert!(!e.contains("panicked"), "{args:?}: {e}");
+        for n in needles {
+            assert!(e.contains(n), "{args:?}: `{n}` not in {e}");
+        }
+    }
+    assert!(!d.join("a.csv").exists());
+}

@@ -322,6 +322,12 @@ impl Default for PlannerSettings {
     }
 }
 
+/// Largest rig `planner.joint_weights` entry: path costs sum weighted joint steps, and a weight
+/// this large already makes every other joint's cost vanish next to it.
+pub const MAX_JOINT_WEIGHT: Real = 1e6;
+/// Smallest rig `planner.end_speed` (m/s): a trajectory's durations are end distances over it.
+pub const MIN_END_SPEED: Real = 1e-9;
+
 /// A validated rig.
 #[derive(Debug, Clone)]
 pub struct Rig {
@@ -551,17 +557,20 @@ struct RawRobot {
 #[derive(Debug, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawTool {
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::math::exact3::deserialize")]
     xyz: [Real; 3],
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::math::exact3::deserialize")]
     rpy: [Real; 3],
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawClamp {
+    #[serde(deserialize_with = "crate::math::exact3::deserialize")]
     origin: [Real; 3],
+    #[serde(deserialize_with = "crate::math::exact3::deserialize")]
     d1: [Real; 3],
+    #[serde(deserialize_with = "crate::math::exact3::deserialize")]
     d3: [Real; 3],
 }
 
@@ -963,6 +972,13 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
     let joint_weights = p.joint_weights.unwrap_or_default();
     for (i, w) in joint_weights.iter().enumerate() {
         c.positive(&format!("planner.joint_weights[{i}]"), *w)?;
+        if *w > MAX_JOINT_WEIGHT {
+            return Err(c.err(
+                &format!("planner.joint_weights[{i}]"),
+                w,
+                &format!("must be <= {MAX_JOINT_WEIGHT:e} (path costs sum weighted joint steps)"),
+            ));
+        }
     }
     let max_waypoints = c.count(
         "planner.max_waypoints",
@@ -1037,7 +1053,20 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             p.rod_clearance.unwrap_or(d.rod_clearance),
         )?,
         rod_end_exclusion,
-        end_speed: c.positive("planner.end_speed", p.end_speed.unwrap_or(d.end_speed))?,
+        end_speed: {
+            let v = c.positive("planner.end_speed", p.end_speed.unwrap_or(d.end_speed))?;
+            if v < MIN_END_SPEED {
+                return Err(c.err(
+                    "planner.end_speed",
+                    v,
+                    &format!(
+                        "must be >= {MIN_END_SPEED:e} m/s (durations are distances over this \
+                         speed)"
+                    ),
+                ));
+            }
+            v
+        },
         velocity_scale,
         joint_acceleration,
         acceleration_scale,

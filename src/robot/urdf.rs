@@ -212,6 +212,17 @@ fn build(
     if link_names.len() != robot.links.len() {
         return Err(bad(source, "links".into(), "", "two links share a name"));
     }
+    let mut joint_names: HashMap<&str, usize> = HashMap::new();
+    for (ji, j) in robot.joints.iter().enumerate() {
+        if joint_names.insert(j.name.as_str(), ji).is_some() {
+            return Err(bad(
+                source,
+                format!("joint {}", j.name),
+                "",
+                "two joints share this name",
+            ));
+        }
+    }
     // child link → joint index; parent link → joint indices.
     let mut joint_of_child: HashMap<&str, usize> = HashMap::new();
     let mut children: HashMap<&str, Vec<usize>> = HashMap::new();
@@ -274,6 +285,26 @@ fn build(
                     format!("joint {} limit", j.name),
                     format!("[{}, {}]", j.limit.lower, j.limit.upper),
                     "need finite lower ≤ upper",
+                ));
+            }
+            // urdf-rs reads a missing <limit> as all zeros: a revolute joint frozen at 0.
+            let l = &j.limit;
+            if j.joint_type == urdf_rs::JointType::Revolute
+                && [l.lower, l.upper, l.effort, l.velocity] == [0.0; 4]
+            {
+                return Err(bad(
+                    source,
+                    format!("joint {} limit", j.name),
+                    "none",
+                    "a revolute joint needs <limit lower=… upper=… velocity=… effort=…/>",
+                ));
+            }
+            if !(l.velocity >= 0.0 && l.velocity.is_finite()) {
+                return Err(bad(
+                    source,
+                    format!("joint {} limit velocity", j.name),
+                    l.velocity,
+                    "must be finite and >= 0 (rad/s; 0 = none given)",
                 ));
             }
         }

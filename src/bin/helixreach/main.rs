@@ -7,7 +7,7 @@
 
 mod commands;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 /// Plan robotic stability experiments on elastic rods with helical centerlines.
@@ -74,8 +74,39 @@ fn message(e: &anyhow::Error) -> String {
     msg
 }
 
+/// The command line with every `--flag NUMBER` whose number is negative written `--flag=NUMBER`:
+/// clap's own negative-number test does not know exponents (`--tau -1e-12`).
+fn negative_values_joined() -> Vec<std::ffi::OsString> {
+    let mut out: Vec<std::ffi::OsString> = Vec::new();
+    for a in std::env::args_os() {
+        let negative_number = a
+            .to_str()
+            .is_some_and(|t| t.starts_with('-') && t.parse::<f64>().is_ok());
+        let after_long_flag = out
+            .last()
+            .and_then(|p| p.to_str())
+            .is_some_and(|p| p.starts_with("--") && p.len() > 2 && !p.contains('='));
+        if negative_number && after_long_flag {
+            let flag = out.pop().unwrap_or_default();
+            let mut joined = flag;
+            joined.push("=");
+            joined.push(&a);
+            out.push(joined);
+        } else {
+            out.push(a);
+        }
+    }
+    out
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // A negative number after a flag is its value (`--tau -1e-12`, `--fibonacci -5`), never a
+    // flag: every subcommand accepts negative numbers as values.
+    let cmd = Cli::command().mut_subcommands(|s| s.allow_negative_numbers(true));
+    let cli = match Cli::from_arg_matches(&cmd.get_matches_from(negative_values_joined())) {
+        Ok(c) => c,
+        Err(e) => e.exit(),
+    };
     let result = match cli.command {
         Command::Helix(a) => commands::helix::run(a),
         Command::Boundary(a) => commands::boundary::run(a),

@@ -13,10 +13,10 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct ObstaclePose {
     /// Translation (m).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::math::exact3::deserialize")]
     pub xyz: [Real; 3],
     /// Roll, pitch, yaw (rad).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::math::exact3::deserialize")]
     pub rpy: [Real; 3],
 }
 

@@ -73,7 +73,7 @@ pub struct Args {
     #[arg(long)]
     pub force: bool,
     /// Process only block I (0-based) of N contiguous blocks of the directions.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub shard: Option<Shard>,
     /// Seconds between checkpoints (to OUT.partial).
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]

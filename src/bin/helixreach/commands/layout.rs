@@ -60,7 +60,7 @@ pub struct Args {
     pub no_end_pose_check: bool,
     /// Process only shard I/N of the (candidate, direction) rays; merge the shards' rays.csv
     /// with `helixreach merge --key-columns 4`, then rerun with --resume.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub shard: Option<Shard>,
     /// Continue an existing run in --out (same settings only).
     #[arg(long)]

@@ -31,7 +31,7 @@ pub struct Args {
     #[command(flatten)]
     pub overrides: RigOverrideArgs,
     /// Process only shard I/N (0-based) of the directions.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub shard: Option<Shard>,
     /// Continue an existing --out (or its checkpoint OUT.partial) made with the same settings:
     /// compute only the missing directions.
