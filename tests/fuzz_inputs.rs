@@ -823,16 +823,16 @@ fn low_severity_inputs_name_file_field_and_value() {
             ],
             vec!["tol", "-1e-12"],
         ),
-        // simulate checks its output before computing.
+        // simulate checks its output before computing (its directory cannot be a file).
         (
             vec![
                 "simulate",
                 "--direction",
                 "1,1,1",
                 "--out",
-                "no/such/dir/s.csv",
+                "speed.toml/s.csv",
             ],
-            vec!["no/such/dir"],
+            vec!["speed.toml/s.csv", "cannot create its directory"],
         ),
     ];
     for (args, needles) in cases {
