@@ -329,3 +329,46 @@ fn rod_reports_the_gravito_bending_ratio_of_the_rigs_rod() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("density"));
 }
+
+#[test]
+fn der_to_a_requested_accuracy_meets_it_against_the_continuum_or_names_the_n_needed() {
+    use helixreach::boundary::{continuum, der};
+    use helixreach::directions::Direction;
+    let p = der::DerBoundaryParams {
+        n_edges: 25,
+        tol_rel: 1e-9,
+        ..Default::default()
+    };
+    // The paper's three directions: within the requested 1e-3 of the continuum (an
+    // independent method), and the estimate bounds the actual error.
+    for (k, t, w) in [(0.594, 0.698, 0.4), (1.0, 1.0, -1.0), (1.0, 1.0, 1.0)] {
+        let d = Direction::new(k, t, w).unwrap();
+        let c = continuum::critical_s(&d, 1e-10).unwrap().s_star;
+        let r = der::critical_s_to_rel_tol(&d, &p, 1e-3, 800).unwrap();
+        let err = (r.s_star - c).abs() / c;
+        assert!(
+            r.richardson_rel <= 1e-3 && err <= 1e-3,
+            "{d:?}: {r:?} vs {c}"
+        );
+        assert!(
+            err <= 2.0 * r.richardson_rel + 1e-6,
+            "{d:?}: {err} vs {r:?}"
+        );
+        // A tighter request needs a finer rod.
+        let fine = der::critical_s_to_rel_tol(&d, &p, 1e-5, 3200).unwrap();
+        assert!(fine.n_edges > r.n_edges);
+        assert!(
+            (fine.s_star - c).abs() / c <= 1e-5,
+            "{d:?}: {fine:?} vs {c}"
+        );
+    }
+    // A bound too small for the request: an error naming the n needed, never a capped number.
+    let d = Direction::new(1.0, 1.0, 1.0).unwrap();
+    let e = der::critical_s_to_rel_tol(&d, &p, 1e-7, 100)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("max_n_edges") && e.contains("needs n_edges"),
+        "{e}"
+    );
+}

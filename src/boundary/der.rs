@@ -1307,3 +1307,135 @@ pub fn check_extensibility(dir: &Direction, s_star: Real) -> Result<()> {
     }
     Ok(())
 }
+
+/// Largest n [`critical_s_to_rel_tol`] refines to unless told otherwise.
+pub const DEFAULT_MAX_ADAPTIVE_EDGES: usize = 3200;
+
+/// The DER s* of one direction at a requested accuracy ([`critical_s_to_rel_tol`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptiveS {
+    /// s* at the finest resolution computed (`∞`: stable to `s_max` at the last two).
+    pub s_star: Real,
+    /// Its error estimate: the Richardson estimate `|s*_n − s*_{n/2}|/3` of the discretization
+    /// error (order 2) plus the final bracket's half-width.
+    pub est_error: Real,
+    /// The finest n.
+    pub n_edges: usize,
+    /// The Richardson estimate relative to s* (≤ the requested tolerance).
+    pub richardson_rel: Real,
+}
+
+/// s* of `dir` to a requested relative accuracy: [`critical_s`] at `params.n_edges`, then at
+/// doubled n until the Richardson estimate of the discretization error of the finer value,
+/// `|s*_n − s*_{n/2}|/3` (the DER error is second order in 1/n, `examples/der_convergence.rs`),
+/// is at most `rel_tol·s*_n`. A resolution [`critical_s`] refuses (too coarse for the direction,
+/// or outside its checked error bound) is skipped by doubling. Reaching `max_edges` without
+/// meeting `rel_tol` is an error naming the n the order-2 estimate says is needed, never a
+/// silently capped answer.
+///
+/// Cost: the sum over the levels, dominated by the finest (≈ 2× one [`critical_s`] there).
+/// On the large-s* band the discrete rod is pre-asymptotic up to φ ≈ 0.3 rad per edge (module
+/// docs, "Resolution"), where two levels can agree by chance; `docs/RESULTS.md` measures the
+/// result against the continuum.
+pub fn critical_s_to_rel_tol(
+    dir: &Direction,
+    params: &DerBoundaryParams,
+    rel_tol: Real,
+    max_edges: usize,
+) -> Result<AdaptiveS> {
+    params.validate()?;
+    require_positive("rel_tol", rel_tol)?;
+    if rel_tol >= 0.5 {
+        return Err(Error::invalid("rel_tol", rel_tol, "must be < 0.5"));
+    }
+    crate::limits::check_size("max_n_edges", max_edges, crate::limits::MAX_N_EDGES)?;
+    if max_edges < 2 * params.n_edges {
+        return Err(Error::invalid(
+            "max_n_edges",
+            max_edges,
+            format!(
+                "must be at least twice the starting n_edges = {} (two resolutions give the \
+                 Richardson estimate)",
+                params.n_edges
+            ),
+        ));
+    }
+    let mut n = params.n_edges;
+    let mut prev: Option<Real> = None;
+    loop {
+        let p = DerBoundaryParams {
+            n_edges: n,
+            ..*params
+        };
+        let finer = 2 * n;
+        match critical_s(dir, &p) {
+            Ok(r) => {
+                let bracket = 0.5 * p.tol_rel * r.s_star;
+                match prev {
+                    Some(sp) if !r.s_star.is_finite() && !sp.is_finite() => {
+                        return Ok(AdaptiveS {
+                            s_star: Real::INFINITY,
+                            est_error: 0.0,
+                            n_edges: n,
+                            richardson_rel: 0.0,
+                        })
+                    }
+                    Some(sp) if r.s_star.is_finite() && sp.is_finite() => {
+                        let est = (r.s_star - sp).abs() / 3.0;
+                        let rel = est / r.s_star;
+                        if rel <= rel_tol {
+                            return Ok(AdaptiveS {
+                                s_star: r.s_star,
+                                est_error: est + bracket,
+                                n_edges: n,
+                                richardson_rel: rel,
+                            });
+                        }
+                        if finer > max_edges {
+                            let need = (n as Real * (rel / rel_tol).sqrt()).ceil();
+                            return Err(Error::invalid(
+                                "max_n_edges",
+                                max_edges,
+                                format!(
+                                    "direction ({}, {}, {}): at n_edges = {n} the Richardson \
+                                     estimate of the DER error is {rel:.2e} relative (> rel_tol \
+                                     {rel_tol:e}); second order needs n_edges ≈ {need} (raise \
+                                     max_n_edges or rel_tol, or use the continuum method)",
+                                    dir.kappa, dir.tau, dir.omega
+                                ),
+                            ));
+                        }
+                    }
+                    _ => {}
+                }
+                prev = Some(r.s_star);
+            }
+            Err(e) => {
+                if finer > max_edges {
+                    return Err(Error::invalid(
+                        "max_n_edges",
+                        max_edges,
+                        format!(
+                            "direction ({}, {}, {}): still refused at n_edges = {n}, the \
+                             largest allowed: {e}",
+                            dir.kappa, dir.tau, dir.omega
+                        ),
+                    ));
+                }
+                prev = None;
+            }
+        }
+        if finer > max_edges {
+            return Err(Error::invalid(
+                "max_n_edges",
+                max_edges,
+                format!(
+                    "direction ({}, {}, {}): n_edges = {finer} needed for a second resolution \
+                     exceeds it",
+                    dir.kappa, dir.tau, dir.omega
+                ),
+            ));
+        }
+        n = finer;
+    }
+}

@@ -48,9 +48,20 @@ pub struct Args {
     /// Stability test.
     #[arg(long, value_enum, default_value = "continuum")]
     pub method: Method,
-    /// Number of DER edges (method der), at most helixreach::limits::MAX_N_EDGES.
+    /// Number of DER edges (method der), at most helixreach::limits::MAX_N_EDGES; with
+    /// `--rel-tol` the starting n.
     #[arg(long, default_value_t = 100)]
     pub n_edges: usize,
+    /// Method der: choose n per direction, doubling from `--n-edges` until the Richardson
+    /// estimate of the discretization error is at most this (relative). The row's
+    /// `resolution` is `n=N` of that direction and `est_error` the estimate (plus the
+    /// bracket); a direction that needs more than `--max-n-edges` is a refused row naming the
+    /// n it would need.
+    #[arg(long, allow_negative_numbers = true)]
+    pub rel_tol: Option<Real>,
+    /// With --rel-tol: the largest n (an error when reached, never a silent cap).
+    #[arg(long, default_value_t = der::DEFAULT_MAX_ADAPTIVE_EDGES, requires = "rel_tol")]
+    pub max_n_edges: usize,
     /// The direction set.
     #[command(flatten)]
     pub dirs: DirectionArgs,
@@ -166,6 +177,39 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let nu = a.rod.resolve(Preset::PaperSim)?.rod.nu;
     let (solve, resolution) = solver(a.method, nu, a.tol, a.step, a.n_edges)?;
     let method = method_name(a.method);
+    let adaptive = match a.rel_tol {
+        Some(e) if a.method == Method::Der => {
+            let p = der::DerBoundaryParams {
+                n_edges: a.n_edges,
+                nu,
+                tol_rel: a.tol,
+                ..der::DerBoundaryParams::default()
+            };
+            p.validate()?;
+            Some((p, e))
+        }
+        Some(_) => bail!("--rel-tol needs --method der (the continuum's accuracy is --tol)"),
+        None => None,
+    };
+    let resolution = match adaptive {
+        Some((_, e)) => format!("rel_tol={e:e} n0={} n_max={}", a.n_edges, a.max_n_edges),
+        None => resolution,
+    };
+    let max_n = a.max_n_edges;
+    let solve = move |d: &Direction| -> helixreach::Result<(CriticalS, Option<String>)> {
+        match adaptive {
+            Some((p, e)) => der::critical_s_to_rel_tol(d, &p, e, max_n).map(|r| {
+                (
+                    CriticalS {
+                        s_star: r.s_star,
+                        est_error: r.est_error,
+                    },
+                    Some(format!("n={}", r.n_edges)),
+                )
+            }),
+            None => solve(d).map(|r| (r, None)),
+        }
+    };
     let mut opts = SweepOptions::new(&out, HEADER, 3)
         .sweep("boundary")
         .setting("method", method)
@@ -187,7 +231,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         // A direction the method refuses is a row with its reason: the sweep finishes and
         // resumes past it.
         |d| match solve(d) {
-            Ok(r) => row(d, r, method, &resolution),
+            Ok((r, per_row)) => row(d, r, method, per_row.as_deref().unwrap_or(&resolution)),
             Err(e) => {
                 helixreach::records::boundary_refused_row(d, method, &resolution, &e.to_string())
             }
