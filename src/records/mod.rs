@@ -30,6 +30,7 @@ pub mod ik;
 pub mod layout;
 pub mod reach;
 pub mod render;
+pub mod ros2_bag;
 pub mod series;
 pub mod trajectory;
 

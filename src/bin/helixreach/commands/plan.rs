@@ -62,6 +62,11 @@ pub struct Args {
     /// YAML (`ros2 action send_goal … "$(cat F)"`).
     #[arg(long)]
     pub goal_yaml: Option<PathBuf>,
+    /// Also write a ROS 2 bag (MCAP, CDR): the arm's and the rod motor's `JointTrajectory` on
+    /// their own topics and the sidecar JSON (outcome, phases) as an annotation topic
+    /// (`helixreach::records::ros2_bag`).
+    #[arg(long)]
+    pub bag: Option<PathBuf>,
     /// Write the trajectory of a ray that cannot be driven to its target, as far as it goes
     /// (its sidecar says `partial` or `blocked`, with the cause and `s_reached`); without it
     /// such a ray writes nothing and exits 3.
@@ -92,8 +97,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let out = Output::new(&args.out).force(args.force).input(rig_file);
     out.check()?;
     // Every further output: never onto the rig or the trajectory CSV.
-    // (output, which message: 0 JSON, 1 YAML, 2 goal YAML)
-    let extra: Vec<(Output, usize)> = [&args.json, &args.yaml, &args.goal_yaml]
+    // (output, which message: 0 JSON, 1 YAML, 2 goal YAML, 3 ROS 2 bag)
+    let extra: Vec<(Output, usize)> = [&args.json, &args.yaml, &args.goal_yaml, &args.bag]
         .into_iter()
         .enumerate()
         .filter_map(|(k, p)| p.as_ref().map(|j| (j, k)))
@@ -157,18 +162,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let traj = planner.trajectory(&plan)?;
     let meta = trajectory_meta_json(&traj)?;
-    let mut files = vec![(out, traj.to_csv()?)];
+    let mut files = vec![(out, traj.to_csv()?.into_bytes())];
     let arm = JointTrajectoryMsg::new(&traj, Channels::Arm)?;
     for (o, k) in extra {
-        let text = match k {
-            0 => message_json(&arm)?,
-            1 => message_yaml(&arm, false),
-            _ => message_yaml(&arm, true),
+        let bytes = match k {
+            0 => message_json(&arm)?.into_bytes(),
+            1 => message_yaml(&arm, false).into_bytes(),
+            2 => message_yaml(&arm, true).into_bytes(),
+            _ => helixreach::records::ros2_bag::trajectory_bag(&traj)?,
         };
-        files.push((o, text));
+        files.push((o, bytes));
     }
-    for (o, text) in files {
-        o.write_with_sidecar(text.as_bytes(), meta.as_bytes())?;
+    for (o, bytes) in files {
+        o.write_with_sidecar(&bytes, meta.as_bytes())?;
     }
     eprintln!(
         "{}: s* = {}, s_reached = {} of {} (bifurcation assumed: {assumed}) ({} of {} waypoints), \
