@@ -6,7 +6,7 @@
 //!   joint names) — what an arm's `FollowJointTrajectory` controller takes;
 //! - [`MOTOR_TOPIC`]: the rod motor's own `JointTrajectory` ([`Channels::Motor`], its own joint
 //!   name), for the motor's controller;
-//! - [`META_TOPIC`]: a `std_msgs/msg/String` holding the sidecar JSON ([`TrajectoryMeta`]:
+//! - [`META_TOPIC`]: a `std_msgs/msg/String` holding the sidecar JSON ([`TrajectoryMeta`](super::trajectory::TrajectoryMeta):
 //!   class, cause, s_reached, s_target, the phases as runs of points) — the phase annotation.
 //!
 //! One message per topic, logged at time 0.
