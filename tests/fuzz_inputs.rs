@@ -823,6 +823,19 @@ fn low_severity_inputs_name_file_field_and_value() {
             ],
             vec!["tol", "-1e-12"],
         ),
+        // Derived quantities out of range name the fields they come from.
+        (
+            vec![
+                "simulate",
+                "--direction",
+                "1,1,1",
+                "--youngs-modulus",
+                "1e308",
+                "--out",
+                "ym.csv",
+            ],
+            vec!["youngs_modulus = 1e308", "bending stiffness"],
+        ),
         // simulate checks its output before computing (its directory cannot be a file).
         (
             vec![

@@ -32,7 +32,7 @@
 //! assert!((r - 1.3816).abs() < 0.015, "{r}");
 //! ```
 
-use crate::error::{require_positive, Error, Result};
+use crate::error::{fmt_num, require_positive, Error, Result};
 use crate::math::Real;
 use crate::rod::params::twist_ratio;
 use crate::rod::Material;
@@ -135,6 +135,34 @@ impl PhysicalRod {
                 format!("must be smaller than the length {} m", self.length),
             ));
         }
+        // Each field in range can still give derived quantities out of range (E = 1e308 makes
+        // k_b overflow, and the time unit 0): refused here, naming the fields they come from.
+        for (what, v) in [
+            (
+                "the bending stiffness k_b = E·πh⁴/4 (N·m²)",
+                self.bending_stiffness(),
+            ),
+            ("the mass per length ρπh² (kg/m)", self.linear_density()),
+            ("the time unit √(ρA·L⁴/k_b) (s)", self.time_unit()),
+        ] {
+            if !(v.is_finite() && v > Real::MIN_POSITIVE.sqrt() && v < Real::MAX.sqrt()) {
+                return Err(Error::invalid(
+                    "rod",
+                    format!(
+                        "length = {}, radius = {}, youngs_modulus = {}, density = {}",
+                        fmt_num(self.length),
+                        fmt_num(self.radius),
+                        fmt_num(self.youngs_modulus),
+                        fmt_num(self.density)
+                    ),
+                    format!(
+                        "{what} = {} is out of the computable range (between \
+                         1e-154 and 1e154)",
+                        fmt_num(v)
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -197,6 +225,28 @@ impl PhysicalRod {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Fields each in range whose derived quantities are not: refused naming the fields.
+    #[test]
+    fn derived_quantities_out_of_range_are_refused() {
+        let mut p = PhysicalRod::paper_sim();
+        p.youngs_modulus = 1e308;
+        assert!(!p.bending_stiffness().is_finite());
+        let e = p.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("youngs_modulus = 1e308") && e.contains("bending stiffness"),
+            "{e}"
+        );
+        let mut p = PhysicalRod::paper_sim();
+        p.density = 1e-300;
+        let e = p.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("density = 1e-300") && e.contains("mass per length"),
+            "{e}"
+        );
+        assert!(PhysicalRod::paper_sim().validate().is_ok());
+        assert!(PhysicalRod::nitinol().validate().is_ok());
+    }
 
     #[test]
     fn time_unit_and_stiffness_of_the_paper_rod() {
