@@ -21,6 +21,7 @@
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
 //! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
 //! | search nodes per ray (rig `planner.max_search_nodes`) | [`MAX_SEARCH_NODES`] = 9,000,000 | ≈ 1 GiB |
+//! | collision mesh files ([`crate::robot::mesh`]) | [`MAX_MESH_FILE_BYTES`] = 64 MiB, [`MAX_MESH_TRIANGLES`] = 1,000,000 triangles | bounded memory |
 //! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |
 //! | worker threads (`--threads`) | 1 ≤ n ≤ [`MAX_THREADS`] = 1,024 | one OS thread each |
 //! | collision sampling of a joint step (rig `planner.segment_check_step`) | ≥ [`MIN_SEGMENT_CHECK_STEP`] = 0.001 rad | samples ∝ step / segment_check_step; `check` samples a step with at most [`MAX_SEGMENT_SAMPLES`] = 10,000 configurations (a step that needs more is a jump) |
@@ -124,3 +125,11 @@ pub fn check_range(what: &str, n: usize, min: usize, max: usize) -> Result<usize
         ))
     }
 }
+
+/// Largest mesh file read for collision geometry (bytes): checked before reading, so a huge
+/// mesh is a clear error, never an out-of-memory abort (a 2-million-triangle binary STL is
+/// 100 MB; the arms' collision meshes are ≤ 3 MB).
+pub const MAX_MESH_FILE_BYTES: u64 = 64 * 1024 * 1024;
+/// Most triangles of one collision mesh (a binary STL's declared count is checked before it is
+/// parsed).
+pub const MAX_MESH_TRIANGLES: usize = 1_000_000;

@@ -109,14 +109,7 @@ impl<'a> Sweep<'a> {
                 "need at least one azimuth",
             ));
         }
-        let model = crate::robot::RobotModel::load(&rig.robot.source(), Some(&rig.robot.tip_link))
-            .map_err(|e| {
-                Error::invalid(
-                    format!("{}: robot", rig.source),
-                    &rig.robot.urdf,
-                    format!("cannot load the robot: {e}"),
-                )
-            })?;
+        let model = rig.robot.load_model(&rig.source)?;
         let bound = ReachBound::of(&model, rig);
         let s_star = dirs
             .par_iter()

@@ -72,7 +72,15 @@ impl ReachBound {
         path.reverse();
         let first = path
             .iter()
-            .position(|&k| matches!(links[k].motion, LinkMotion::Revolute { .. }));
+            .position(|&k| !matches!(links[k].motion, LinkMotion::Fixed));
+        // A prismatic joint (a rail) adds its largest travel to the reach.
+        let travel = |k: usize| match links[k].motion {
+            LinkMotion::Prismatic { dof, .. } => {
+                let j = &model.joints()[dof];
+                j.lower.abs().max(j.upper.abs())
+            }
+            _ => 0.0,
+        };
         // Position of every link frame origin before (and at) the first actuated joint is fixed.
         let mut centre = Vec3::zeros();
         let mut rot = crate::math::Mat3::identity();
@@ -80,7 +88,12 @@ impl ReachBound {
         for (n, &k) in path.iter().enumerate() {
             let o = &links[k].origin;
             match first {
-                Some(f) if n > f => radius += o.pos.norm(),
+                Some(f) if n > f => radius += o.pos.norm() + travel(k),
+                Some(f) if n == f => {
+                    centre += rot * o.pos;
+                    rot *= o.rot;
+                    radius += travel(k);
+                }
                 _ => {
                     centre += rot * o.pos;
                     rot *= o.rot;

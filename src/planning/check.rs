@@ -490,21 +490,10 @@ pub struct Checker {
 impl Checker {
     /// Load the rig's robot and scene. Errors name the rig file.
     pub fn new(rig: Rig) -> Result<Checker> {
-        let model =
-            RobotModel::load(&rig.robot.source(), Some(&rig.robot.tip_link)).map_err(|e| {
-                Error::invalid(
-                    format!("{}: robot", rig.source),
-                    format!(
-                        "urdf = {:?}, tip_link = {:?}",
-                        rig.robot.urdf, rig.robot.tip_link
-                    ),
-                    format!("cannot load the robot: {e}"),
-                )
-            })?;
-        let mut collision = CollisionModel::for_model(&model)?;
-        collision
-            .set_obstacles(&rig.obstacles)
-            .map_err(|e| Error::invalid(format!("{}: obstacle", rig.source), "", e.to_string()))?;
+        let model = rig.robot.load_model(&rig.source)?;
+        let collision = rig
+            .robot
+            .collision_model(&model, &rig.obstacles, &rig.source)?;
         Ok(Checker {
             rig,
             model,

@@ -415,17 +415,7 @@ impl Planner {
     /// a missing tip link, joint weights of the wrong length, an unreachable clamp (no
     /// collision-free IK solution for the straight rod in the rig's roll mode).
     pub fn new(rig: Rig) -> Result<Planner> {
-        let src = rig.robot.source();
-        let model = RobotModel::load(&src, Some(&rig.robot.tip_link)).map_err(|e| {
-            Error::invalid(
-                format!("{}: robot", rig.source),
-                format!(
-                    "urdf = {:?}, tip_link = {:?}",
-                    rig.robot.urdf, rig.robot.tip_link
-                ),
-                format!("cannot load the robot: {e}"),
-            )
-        })?;
+        let model = rig.robot.load_model(&rig.source)?;
         let dof = model.dof();
         let w = &rig.planner.joint_weights;
         if !w.is_empty() && w.len() != dof {
@@ -439,16 +429,9 @@ impl Planner {
         for (k, x) in w.iter().enumerate() {
             weights[k] = *x;
         }
-        let mut collision = CollisionModel::for_model(&model).map_err(|e| {
-            Error::invalid(
-                format!("{}: robot", rig.source),
-                &rig.robot.urdf,
-                e.to_string(),
-            )
-        })?;
-        collision
-            .set_obstacles(&rig.obstacles)
-            .map_err(|e| Error::invalid(format!("{}: obstacle", rig.source), "", e.to_string()))?;
+        let collision = rig
+            .robot
+            .collision_model(&model, &rig.obstacles, &rig.source)?;
         let ik = IkParams {
             redundancy_joint: Some(0),
             samples: rig.planner.redundancy_samples,

@@ -33,8 +33,10 @@
 
 use crate::error::{Error, Result};
 use crate::math::{Iso3, Mat3, Real, Vec3, DEG};
-use crate::robot::collision::RodGeometry;
+use crate::robot::collision::{CollisionSettings, RodGeometry, MAX_PADDING};
+use crate::robot::mesh::MeshSearch;
 use crate::robot::SceneObstacle;
+use crate::robot::{CollisionModel, DisabledPairs, LoadOptions, RobotModel};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -130,9 +132,83 @@ pub struct RobotSpec {
     pub dir: PathBuf,
     /// The link whose frame, times [`Rig::tool`], is the rod-end tool frame.
     pub tip_link: String,
+    /// Package directories for `package://` mesh names (`[robot] package_paths`, relative to
+    /// the rig file), searched before `ROS_PACKAGE_PATH`.
+    pub package_paths: Vec<PathBuf>,
+    /// Links meant to have no collision geometry (`[robot] no_collision`).
+    pub no_collision: Vec<String>,
+    /// Padding of the robot's collision bodies (`[robot] padding`, `[robot.link_padding]`).
+    pub collision: CollisionSettings,
+    /// A MoveIt SRDF whose `<disable_collisions>` pairs are skipped (`[robot] srdf`, relative
+    /// to the rig file), besides the robot's own never-colliding list.
+    pub srdf: Option<PathBuf>,
 }
 
 impl RobotSpec {
+    /// How the robot is loaded: the rig's package paths and `no_collision` links.
+    pub fn load_options(&self) -> LoadOptions {
+        LoadOptions {
+            search: MeshSearch::new(self.package_paths.clone()),
+            no_collision: self.no_collision.clone(),
+        }
+    }
+
+    /// Load the robot; errors name the rig file `rig_source`. The rig's SRDF joins the model's
+    /// [`sources`](RobotModel::sources).
+    pub fn load_model(&self, rig_source: &str) -> Result<RobotModel> {
+        let mut m =
+            RobotModel::load_with(&self.source(), Some(&self.tip_link), &self.load_options())
+                .map_err(|e| {
+                    Error::invalid(
+                        format!("{rig_source}: robot"),
+                        format!("urdf = {:?}, tip_link = {:?}", self.urdf, self.tip_link),
+                        format!("cannot load the robot: {e}"),
+                    )
+                })?;
+        if let Some(p) = &self.srdf {
+            let (_, s) = crate::sources::SourceFile::read(p).map_err(|e| {
+                Error::invalid(
+                    format!("{rig_source}: robot.srdf"),
+                    p.display(),
+                    e.to_string(),
+                )
+            })?;
+            m.add_source(s);
+        }
+        Ok(m)
+    }
+
+    /// The collision model of `model` (its disabled pairs, the rig's padding) with `obstacles`;
+    /// says once on stderr what is checked ([`CollisionModel::announce`]). Errors name the rig.
+    pub fn collision_model(
+        &self,
+        model: &RobotModel,
+        obstacles: &[SceneObstacle],
+        rig_source: &str,
+    ) -> Result<CollisionModel> {
+        let mut disabled = DisabledPairs::for_model(model).map_err(|e| {
+            Error::invalid(format!("{rig_source}: robot"), &self.urdf, e.to_string())
+        })?;
+        if let Some(p) = &self.srdf {
+            let srdf = DisabledPairs::from_srdf_file(p).map_err(|e| {
+                Error::invalid(
+                    format!("{rig_source}: robot.srdf"),
+                    p.display(),
+                    e.to_string(),
+                )
+            })?;
+            disabled = disabled.merged(&srdf);
+        }
+        let mut cm = CollisionModel::with_settings(model, &disabled, &[], &self.collision)
+            .map_err(|e| {
+                Error::invalid(format!("{rig_source}: robot"), &self.urdf, e.to_string())
+            })?;
+        cm.set_obstacles(obstacles)
+            .map_err(|e| Error::invalid(format!("{rig_source}: obstacle"), "", e.to_string()))?;
+        cm.announce();
+        Ok(cm)
+    }
+
     /// What to hand to the robot loader: the resolved path when a file of that (relative) name
     /// exists beside the rig, else the name as written (a built-in robot, or a path the loader
     /// will report as missing).
@@ -552,6 +628,16 @@ struct RawRig {
 struct RawRobot {
     urdf: String,
     tip_link: String,
+    #[serde(default)]
+    package_paths: Vec<String>,
+    #[serde(default)]
+    no_collision: Vec<String>,
+    #[serde(default)]
+    padding: Real,
+    #[serde(default)]
+    link_padding: std::collections::BTreeMap<String, Real>,
+    #[serde(default)]
+    srdf: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -1111,6 +1197,34 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             urdf: raw.robot.urdf,
             dir: dir.to_path_buf(),
             tip_link: raw.robot.tip_link,
+            package_paths: raw
+                .robot
+                .package_paths
+                .iter()
+                .map(|p| dir.join(p))
+                .collect(),
+            no_collision: raw.robot.no_collision,
+            srdf: raw.robot.srdf.map(|p| dir.join(p)),
+            collision: {
+                let cs = CollisionSettings {
+                    padding: raw.robot.padding,
+                    link_padding: raw.robot.link_padding.into_iter().collect(),
+                };
+                for (what, v) in std::iter::once(("robot.padding".to_string(), cs.padding)).chain(
+                    cs.link_padding
+                        .iter()
+                        .map(|(n, v)| (format!("robot.link_padding.{n}"), *v)),
+                ) {
+                    if !(v.is_finite() && (0.0..=MAX_PADDING).contains(&v)) {
+                        return Err(c.err(
+                            &what,
+                            v,
+                            &format!("must be finite, in 0..={MAX_PADDING} m"),
+                        ));
+                    }
+                }
+                cs
+            },
         },
         tool,
         clamp,

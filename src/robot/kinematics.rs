@@ -13,11 +13,16 @@
 //! `T_tool(q) = C_0 · Rz(q_0) · C_1 · Rz(q_1) ⋯ C_{n−1} · Rz(q_{n−1}) · C_tool`,
 //!
 //! and `R · Rz(q)` is two column combinations (no matrix product). Each step costs one
-//! `sin_cos`, one 3×3 product and one matrix–vector product.
+//! `sin_cos`, one 3×3 product and one matrix–vector product. A prismatic joint (a linear rail)
+//! is the translation `Tz(q)` instead of `Rz(q)` (`q` in metres).
 //!
 //! The geometric Jacobian `J(q)` (6×n, root frame) maps joint rates to the tool twist
 //! `[v; ω]`, `v` the velocity of the tool origin: column `i` is `[z_i × (p_tool − p_i); z_i]`
-//! with `z_i`, `p_i` the world axis and origin of joint `i`.
+//! with `z_i`, `p_i` the world axis and origin of joint `i`; a prismatic joint's column is
+//! `[z_i; 0]`.
+//!
+//! A mimic joint (URDF `<mimic joint="s" multiplier="m" offset="o"/>`) off the path to the tool
+//! takes the value `m·q_s + o` of its actuated source joint in [`Chain::link_frames`].
 //!
 //! Link frames (for collision and for the cross-check against k) are computed in the URDF's own
 //! convention, link by link in topological order, into a caller buffer.
@@ -169,6 +174,27 @@ pub enum LinkMotion {
         /// Whether the axis is `+z` (fast path).
         is_z: bool,
     },
+    /// Translated by actuated joint `dof` (m) along the unit `axis` (joint frame).
+    Prismatic {
+        /// Index of the joint in the chain's joint vector.
+        dof: usize,
+        /// Unit axis in the joint frame.
+        axis: Vec3,
+    },
+    /// A mimic joint: moved by `multiplier · q[dof] + offset` about (or along, if `prismatic`)
+    /// the unit `axis`.
+    Mimic {
+        /// Index of the source joint in the chain's joint vector.
+        dof: usize,
+        /// Unit axis in the joint frame.
+        axis: Vec3,
+        /// The URDF multiplier.
+        multiplier: Real,
+        /// The URDF offset (rad or m).
+        offset: Real,
+        /// A translation (prismatic) rather than a rotation.
+        prismatic: bool,
+    },
 }
 
 /// One link of the compiled tree: `F_link = F_parent · origin · motion(q)`.
@@ -188,6 +214,8 @@ pub struct Chain {
     dof: usize,
     /// `C_i`: constant transform before joint `i` (axis folded to `+z`).
     pre: Vec<Frame>,
+    /// Whether joint `i` is prismatic (a translation along its axis).
+    prismatic: [bool; MAX_DOF],
     /// `C_tool`.
     tool: Frame,
     /// Every link in topological order.
@@ -197,14 +225,18 @@ pub struct Chain {
 impl Chain {
     /// Compile a chain. `path` lists, from the root to the tool link, each step's constant origin
     /// and optional unit joint axis (`Some` for actuated joints, in order); `links` is the whole
-    /// tree in topological order.
-    pub(crate) fn compile(path: &[(Frame, Option<Vec3>)], links: Vec<LinkStep>) -> Chain {
+    /// tree in topological order. The flag says the joint is prismatic.
+    pub(crate) fn compile(path: &[(Frame, Option<(Vec3, bool)>)], links: Vec<LinkStep>) -> Chain {
         let mut pre = Vec::new();
+        let mut prismatic = [false; MAX_DOF];
         let mut acc = Frame::identity();
         for (origin, axis) in path {
             acc = acc.mul(origin);
-            if let Some(a) = axis {
+            if let Some((a, p)) = axis {
                 let a_rot = z_to_axis(a);
+                if pre.len() < MAX_DOF {
+                    prismatic[pre.len()] = *p;
+                }
                 pre.push(acc.mul(&Frame::new(a_rot, Vec3::zeros())));
                 acc = Frame::new(a_rot.transpose(), Vec3::zeros());
             }
@@ -212,9 +244,15 @@ impl Chain {
         Chain {
             dof: pre.len(),
             pre,
+            prismatic,
             tool: acc,
             links,
         }
+    }
+
+    /// Whether actuated joint `i` is prismatic.
+    pub fn is_prismatic(&self, i: usize) -> bool {
+        self.prismatic.get(i).copied().unwrap_or(false)
     }
 
     /// Number of actuated joints.
@@ -244,10 +282,15 @@ impl Chain {
         }
         let mut rot = Mat3::identity();
         let mut pos = Vec3::zeros();
-        for (c, &(s, co)) in self.pre.iter().zip(&sc[..self.dof]) {
+        for (i, (c, &(s, co))) in self.pre.iter().zip(&sc[..self.dof]).enumerate() {
             pos += rot * c.pos;
             let m = rot * c.rot;
-            rot = mul_rot_z(&m, s, co);
+            if self.prismatic[i] {
+                rot = m;
+                pos += rot.column(2) * q[i];
+            } else {
+                rot = mul_rot_z(&m, s, co);
+            }
         }
         Frame {
             pos: pos + rot * self.tool.pos,
@@ -266,8 +309,13 @@ impl Chain {
         for (i, (c, &qi)) in self.pre.iter().zip(q).enumerate() {
             pos += rot * c.pos;
             let m = rot * c.rot;
-            let (s, co) = qi.sin_cos();
-            rot = mul_rot_z(&m, s, co);
+            if self.prismatic[i] {
+                rot = m;
+                pos += rot.column(2) * qi;
+            } else {
+                let (s, co) = qi.sin_cos();
+                rot = mul_rot_z(&m, s, co);
+            }
             axes[i] = rot.column(2).into_owned();
             origins[i] = pos;
         }
@@ -278,9 +326,14 @@ impl Chain {
         for i in 0..MAX_DOF {
             if i < self.dof {
                 let z = axes[i];
-                let v = z.cross(&(tool.pos - origins[i]));
-                jac.fixed_view_mut::<3, 1>(0, i).copy_from(&v);
-                jac.fixed_view_mut::<3, 1>(3, i).copy_from(&z);
+                if self.prismatic[i] {
+                    jac.fixed_view_mut::<3, 1>(0, i).copy_from(&z);
+                    jac.fixed_view_mut::<3, 1>(3, i).fill(0.0);
+                } else {
+                    let v = z.cross(&(tool.pos - origins[i]));
+                    jac.fixed_view_mut::<3, 1>(0, i).copy_from(&v);
+                    jac.fixed_view_mut::<3, 1>(3, i).copy_from(&z);
+                }
             } else {
                 jac.column_mut(i).fill(0.0);
             }
@@ -307,6 +360,23 @@ impl Chain {
                         f.rot = mul_rot_z(&f.rot, s, c);
                     } else {
                         f.rot *= axis_rotation(&axis, q[dof]);
+                    }
+                }
+                LinkMotion::Prismatic { dof, axis } => {
+                    f.pos += f.rot * (axis * q[dof]);
+                }
+                LinkMotion::Mimic {
+                    dof,
+                    axis,
+                    multiplier,
+                    offset,
+                    prismatic,
+                } => {
+                    let v = multiplier * q[dof] + offset;
+                    if prismatic {
+                        f.pos += f.rot * (axis * v);
+                    } else {
+                        f.rot *= axis_rotation(&axis, v);
                     }
                 }
             }

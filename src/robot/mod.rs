@@ -26,6 +26,7 @@ pub mod ik;
 #[cfg(feature = "interop")]
 pub mod k_bridge;
 pub mod kinematics;
+pub mod mesh;
 pub mod model;
 pub mod urdf;
 pub mod xml_depth;
@@ -35,5 +36,7 @@ pub use collision::{
 };
 pub use ik::{IkParams, IkSolution, IkSolver, IkTarget};
 pub use kinematics::{Chain, Frame, Jacobian, MAX_DOF};
-pub use model::{pose_from_xyz_wxyz, CollisionGeometry, JointInfo, LinkInfo, RobotModel, Shape};
-pub use urdf::{builtin, Builtin, BUILTINS};
+pub use model::{
+    pose_from_xyz_wxyz, CollisionGeometry, JointInfo, LinkInfo, MeshGeometry, RobotModel, Shape,
+};
+pub use urdf::{builtin, Builtin, LoadOptions, BUILTINS};

@@ -150,6 +150,28 @@ pub struct CollisionGeometry {
     pub shape: Shape,
 }
 
+/// One mesh collision element of a link: the mesh (scaled) and its pose.
+#[derive(Clone, Debug)]
+pub struct MeshGeometry {
+    /// Pose of the mesh frame in the link frame.
+    pub origin: Frame,
+    /// The filename as the URDF writes it.
+    pub filename: String,
+    /// The `scale` attribute (per axis).
+    pub scale: [Real; 3],
+    /// The loaded mesh and its hull (shared between elements naming the same file and scale).
+    pub mesh: std::sync::Arc<super::mesh::LoadedMesh>,
+}
+
+impl PartialEq for MeshGeometry {
+    fn eq(&self, o: &Self) -> bool {
+        self.origin == o.origin
+            && self.filename == o.filename
+            && self.scale == o.scale
+            && self.mesh.file == o.mesh.file
+    }
+}
+
 /// A link of the model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LinkInfo {
@@ -164,6 +186,15 @@ pub struct LinkInfo {
     pub group: usize,
     /// Primitive collision geometry.
     pub collision: Vec<CollisionGeometry>,
+    /// Mesh collision geometry.
+    pub meshes: Vec<MeshGeometry>,
+}
+
+impl LinkInfo {
+    /// Whether the link has any collision geometry.
+    pub fn has_collision(&self) -> bool {
+        !(self.collision.is_empty() && self.meshes.is_empty())
+    }
 }
 
 /// The immutable robot model (see the module docs).
@@ -194,7 +225,7 @@ impl RobotModel {
     /// Every file read while loading the model, with a digest of its contents, in load order:
     /// the URDF (`builtin:<name>` for a built-in robot), then its never-colliding pair list
     /// (`<urdf stem>.collision.toml`, recorded as absent when there is none), then any other
-    /// file the loader read. A sweep records these in its settings
+    /// file the loader read (each mesh file once, in the order of the links). A sweep records these in its settings
     /// ([`crate::sources::sources_setting`]) so `--resume` and `merge` refuse rows computed from
     /// a different robot.
     ///
@@ -205,6 +236,12 @@ impl RobotModel {
     /// ```
     pub fn sources(&self) -> &[crate::sources::SourceFile] {
         &self.sources
+    }
+    /// Record one more file the model depends on (a rig's SRDF).
+    pub(crate) fn add_source(&mut self, s: crate::sources::SourceFile) {
+        if !self.sources.contains(&s) {
+            self.sources.push(s);
+        }
     }
     /// The root link name.
     pub fn root_link(&self) -> &str {
@@ -238,7 +275,8 @@ impl RobotModel {
     pub fn frozen_joints(&self) -> &[(String, Real)] {
         &self.frozen
     }
-    /// URDF collision elements that were ignored (meshes), as `link: what`.
+    /// Links without collision geometry that the loader was told to accept (`no_collision`),
+    /// as `link: reason`.
     pub fn ignored_geometry(&self) -> &[String] {
         &self.ignored
     }

@@ -3,20 +3,56 @@
 //! Parsing is delegated to urdf-rs (the parser k uses). This module checks what the compiled
 //! chain relies on and reports clear errors naming the file and the joint or link: a missing or
 //! malformed file, an unknown tool link, a cycle or a second root, a non-finite origin, a zero
-//! axis, inverted limits, a prismatic/planar/floating joint on the chain, more than
-//! [`MAX_DOF`] joints. Mesh collision geometry is skipped (listed by
-//! [`RobotModel::ignored_geometry`]); helixreach works with primitives.
+//! axis, inverted limits, a planar/floating joint on the chain, a mimic joint on the chain or a
+//! mimic cycle, more than [`MAX_DOF`] joints.
+//!
+//! # What the robot layer assumes of the arm
+//! - A tree with one root; the arm is the path from the root to the tool link, with 1 to
+//!   [`MAX_DOF`] actuated joints (revolute, continuous — limited to `[−π, π]` —, or prismatic,
+//!   e.g. a linear rail). 6-DOF arms have finitely many IK solutions per pose (no self-motion);
+//!   7-DOF arms a one-parameter family.
+//! - Movable joints off that path (grippers, a head, the other arm) are frozen at 0 clamped
+//!   into their limits; an off-path mimic joint follows its source (`m·q + o`).
+//! - Every collision element is loaded: primitives as they are, meshes (STL, COLLADA, OBJ, with
+//!   `scale`) through [`crate::robot::mesh`] as their convex hulls. An element that cannot be
+//!   loaded is an error naming the file, the link and the element. Each rigid group of links on
+//!   the path (the root's, and each actuated joint's child's) must have collision geometry,
+//!   unless [`LoadOptions::no_collision`] names one of its links: a link with nothing to check
+//!   is never a silent gap.
 //!
 //! The robots shipped in `robots/` are embedded in the library ([`builtin`]), so the default rig
 //! works from any directory.
 
 use super::kinematics::{Chain, Frame, LinkMotion, LinkStep, MAX_DOF};
+use super::mesh::{self, MeshCache, MeshSearch};
+use super::model::MeshGeometry;
 use super::model::{CollisionGeometry, JointInfo, LinkInfo, RobotModel, Shape};
 use crate::error::{Error, Result};
 use crate::math::{Real, Vec3};
 use crate::sources::SourceFile;
-use std::collections::HashMap;
-use std::path::Path;
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+
+/// How a URDF is loaded: where its meshes are looked for, which links may lack collision
+/// geometry.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LoadOptions {
+    /// Mesh file search (`--package-path`, `ROS_PACKAGE_PATH`).
+    pub search: MeshSearch,
+    /// Links that are meant to have no collision geometry (the rig's `no_collision`).
+    pub no_collision: Vec<String>,
+}
+
+impl LoadOptions {
+    /// Package directories `dirs` (then `ROS_PACKAGE_PATH`), every link required to have
+    /// collision geometry.
+    pub fn with_package_paths(dirs: Vec<PathBuf>) -> LoadOptions {
+        LoadOptions {
+            search: MeshSearch::new(dirs),
+            no_collision: Vec::new(),
+        }
+    }
+}
 
 /// A robot shipped with helixreach: its URDF and its never-colliding pair list.
 #[derive(Clone, Copy, Debug)]
@@ -66,27 +102,56 @@ pub fn builtin(name: &str) -> Option<&'static Builtin> {
 impl RobotModel {
     /// Load a URDF file; `tip_link` = the tool link (default: the leaf link with the most
     /// actuated joints above it).
+    /// Meshes are searched through `ROS_PACKAGE_PATH` and relative to the file.
     pub fn from_urdf_file(path: impl AsRef<Path>, tip_link: Option<&str>) -> Result<RobotModel> {
+        Self::from_urdf_file_with(path, tip_link, &LoadOptions::with_package_paths(Vec::new()))
+    }
+
+    /// [`RobotModel::from_urdf_file`] with explicit options.
+    pub fn from_urdf_file_with(
+        path: impl AsRef<Path>,
+        tip_link: Option<&str>,
+        opts: &LoadOptions,
+    ) -> Result<RobotModel> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             path: path.to_path_buf(),
             source,
         })?;
-        let mut model = Self::from_urdf_str(&text, &path.display().to_string(), tip_link)?;
+        let robot = parse(&text, &path.display().to_string())?;
+        let mut model = build(
+            &robot,
+            &text,
+            &path.display().to_string(),
+            tip_link,
+            opts,
+            Some(path.parent().unwrap_or(Path::new("."))),
+        )?;
         let pairs = super::collision::collision_toml_path(&model.source);
         let (_, pairs) = SourceFile::read_optional(&pairs)?;
-        model.sources.push(pairs);
+        model.sources.insert(1, pairs);
         Ok(model)
     }
 
-    /// Parse URDF text; `source` names it in errors.
+    /// Parse URDF text; `source` names it in errors. Relative mesh paths resolve against the
+    /// working directory.
     pub fn from_urdf_str(text: &str, source: &str, tip_link: Option<&str>) -> Result<RobotModel> {
-        super::xml_depth::check_depth(text, source)?;
-        let robot = urdf_rs::read_from_string(text).map_err(|e| Error::File {
-            path: source.into(),
-            reason: format!("malformed URDF: {e}"),
-        })?;
-        build(&robot, text, source, tip_link)
+        Self::from_urdf_str_with(
+            text,
+            source,
+            tip_link,
+            &LoadOptions::with_package_paths(Vec::new()),
+        )
+    }
+
+    /// [`RobotModel::from_urdf_str`] with explicit options.
+    pub fn from_urdf_str_with(
+        text: &str,
+        source: &str,
+        tip_link: Option<&str>,
+        opts: &LoadOptions,
+    ) -> Result<RobotModel> {
+        build(&parse(text, source)?, text, source, tip_link, opts, None)
     }
 
     /// A built-in robot by name (`sawyer`, `panda`, `iiwa14`) or else a URDF file path.
@@ -99,17 +164,34 @@ impl RobotModel {
     /// assert!(e.contains("kuka") && e.contains("sawyer, panda, iiwa14"), "{e}");
     /// ```
     pub fn load(name_or_path: &str, tip_link: Option<&str>) -> Result<RobotModel> {
+        Self::load_with(
+            name_or_path,
+            tip_link,
+            &LoadOptions::with_package_paths(Vec::new()),
+        )
+    }
+
+    /// [`RobotModel::load`] with explicit options.
+    pub fn load_with(
+        name_or_path: &str,
+        tip_link: Option<&str>,
+        opts: &LoadOptions,
+    ) -> Result<RobotModel> {
         match builtin(name_or_path) {
             Some(b) => {
-                let mut model = Self::from_urdf_str(
+                let mut model = Self::from_urdf_str_with(
                     b.urdf,
                     &format!("builtin:{}", b.name),
                     Some(tip_link.unwrap_or(b.tip)),
+                    opts,
                 )?;
-                model.sources.push(SourceFile::from_bytes(
-                    &format!("builtin:{}.collision.toml", b.name),
-                    b.collision.as_bytes(),
-                ));
+                model.sources.insert(
+                    1,
+                    SourceFile::from_bytes(
+                        &format!("builtin:{}.collision.toml", b.name),
+                        b.collision.as_bytes(),
+                    ),
+                );
                 Ok(model)
             }
             None if !Path::new(name_or_path).exists() => Err(Error::File {
@@ -119,9 +201,17 @@ impl RobotModel {
                     BUILTINS.map(|b| b.name).join(", ")
                 ),
             }),
-            None => Self::from_urdf_file(name_or_path, tip_link),
+            None => Self::from_urdf_file_with(name_or_path, tip_link, opts),
         }
     }
+}
+
+fn parse(text: &str, source: &str) -> Result<urdf_rs::Robot> {
+    super::xml_depth::check_depth(text, source)?;
+    urdf_rs::read_from_string(text).map_err(|e| Error::File {
+        path: source.into(),
+        reason: format!("malformed URDF: {e}"),
+    })
 }
 
 fn bad(source: &str, what: String, value: impl std::fmt::Display, reason: &str) -> Error {
@@ -136,11 +226,13 @@ fn finite3(source: &str, what: String, v: &[f64; 3]) -> Result<()> {
     }
 }
 
-fn shape_of(
-    source: &str,
-    link: &str,
-    g: &urdf_rs::Geometry,
-) -> Result<std::result::Result<Shape, String>> {
+/// A collision element: a primitive, or a mesh (its filename and scale).
+enum Element<'a> {
+    Primitive(Shape),
+    Mesh(&'a str, [Real; 3]),
+}
+
+fn shape_of<'a>(source: &str, link: &str, g: &'a urdf_rs::Geometry) -> Result<Element<'a>> {
     let pos = |what: &str, v: f64| -> Result<f64> {
         if v.is_finite() && v > 0.0 {
             Ok(v)
@@ -153,7 +245,7 @@ fn shape_of(
             ))
         }
     };
-    Ok(Ok(match g {
+    Ok(Element::Primitive(match g {
         urdf_rs::Geometry::Sphere { radius } => Shape::Sphere {
             radius: pos("sphere radius", *radius)?,
         },
@@ -183,8 +275,9 @@ fn shape_of(
                 0.5 * l
             },
         },
-        urdf_rs::Geometry::Mesh { filename, .. } => {
-            return Ok(Err(format!("{link}: mesh {filename}")));
+        urdf_rs::Geometry::Mesh { filename, scale } => {
+            let s = scale.as_ref().map(|v| **v).unwrap_or([1.0; 3]);
+            return Ok(Element::Mesh(filename, s));
         }
     }))
 }
@@ -192,16 +285,21 @@ fn shape_of(
 fn is_movable(t: &urdf_rs::JointType) -> bool {
     matches!(
         t,
-        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous
+        urdf_rs::JointType::Revolute
+            | urdf_rs::JointType::Continuous
+            | urdf_rs::JointType::Prismatic
     )
 }
 
-/// Build the model from a parsed URDF.
+/// Build the model from a parsed URDF (`text`, for its digest); `urdf_dir` is where relative
+/// mesh paths resolve.
 fn build(
     robot: &urdf_rs::Robot,
     text: &str,
     source: &str,
     tip_link: Option<&str>,
+    opts: &LoadOptions,
+    urdf_dir: Option<&Path>,
 ) -> Result<RobotModel> {
     let link_names: HashMap<&str, usize> = robot
         .links
@@ -257,12 +355,16 @@ fn build(
             &j.origin.rpy,
         )?;
         if let Some(m) = &j.mimic {
-            return Err(bad(
-                source,
-                format!("joint {} mimic", j.name),
-                &m.joint,
-                "mimic joints are not supported",
-            ));
+            for (what, v) in [("multiplier", m.multiplier), ("offset", m.offset)] {
+                if v.is_some_and(|x| !x.is_finite()) {
+                    return Err(bad(
+                        source,
+                        format!("joint {} mimic {what}", j.name),
+                        v.unwrap_or_default(),
+                        "must be finite",
+                    ));
+                }
+            }
         }
         if is_movable(&j.joint_type) {
             finite3(source, format!("joint {} axis", j.name), &j.axis.xyz)?;
@@ -275,7 +377,7 @@ fn build(
                     "must be non-zero with a finite norm",
                 ));
             }
-            if j.joint_type == urdf_rs::JointType::Revolute
+            if j.joint_type != urdf_rs::JointType::Continuous
                 && !(j.limit.lower.is_finite()
                     && j.limit.upper.is_finite()
                     && j.limit.lower <= j.limit.upper)
@@ -352,6 +454,43 @@ fn build(
         })
     };
 
+    // Mimic chains: every mimic names an existing joint, and following them never loops.
+    let joint_index: HashMap<&str, usize> = robot
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| (j.name.as_str(), i))
+        .collect();
+    for (ji, j) in robot.joints.iter().enumerate() {
+        let mut seen = vec![ji];
+        let mut cur = j;
+        while let Some(m) = &cur.mimic {
+            let Some(&src) = joint_index.get(m.joint.as_str()) else {
+                return Err(bad(
+                    source,
+                    format!("joint {} mimic", cur.name),
+                    &m.joint,
+                    "no joint of that name",
+                ));
+            };
+            if seen.contains(&src) {
+                let names: Vec<&str> = seen
+                    .iter()
+                    .chain([&src])
+                    .map(|&k| robot.joints[k].name.as_str())
+                    .collect();
+                return Err(bad(
+                    source,
+                    format!("joint {} mimic", j.name),
+                    names.join(" → "),
+                    "mimic cycle",
+                ));
+            }
+            seen.push(src);
+            cur = &robot.joints[src];
+        }
+    }
+
     // Count actuated joints above each link to choose the default tip.
     let movable_above = |l: &str| -> usize {
         let mut n = 0;
@@ -418,9 +557,19 @@ fn build(
     for &ji in &path_joints {
         let j = &robot.joints[ji];
         let origin = Frame::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy);
+        if let Some(m) = &j.mimic {
+            return Err(bad(
+                source,
+                format!("joint {} mimic", j.name),
+                &m.joint,
+                "a mimic joint on the path from the root to the tool link is not supported (mimic joints are supported off that path, e.g. in a gripper)",
+            ));
+        }
         match j.joint_type {
             urdf_rs::JointType::Fixed => path.push((origin, None)),
-            urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
+            urdf_rs::JointType::Revolute
+            | urdf_rs::JointType::Continuous
+            | urdf_rs::JointType::Prismatic => {
                 let axis = Vec3::from(*j.axis.xyz).normalize();
                 let (lower, upper) = if j.joint_type == urdf_rs::JointType::Continuous {
                     (-std::f64::consts::PI, std::f64::consts::PI)
@@ -441,14 +590,17 @@ fn build(
                     },
                     axis,
                 });
-                path.push((origin, Some(axis)));
+                path.push((
+                    origin,
+                    Some((axis, j.joint_type == urdf_rs::JointType::Prismatic)),
+                ));
             }
             ref t => {
                 return Err(bad(
                     source,
                     format!("joint {} type", j.name),
                     format!("{t:?}"),
-                    "only revolute, continuous and fixed joints are supported on the chain",
+                    "only revolute, continuous, prismatic and fixed joints are supported on the path to the tool link",
                 ));
             }
         }
@@ -458,7 +610,7 @@ fn build(
             source,
             format!("chain to {tip}"),
             joints.len(),
-            "more actuated joints than supported (7)",
+            "more actuated joints than supported (7): choose a tool link closer to the root",
         ));
     }
     if joints.is_empty() {
@@ -469,9 +621,49 @@ fn build(
         ));
     }
 
+    for l in &opts.no_collision {
+        if !index.contains_key(l.as_str()) {
+            return Err(Error::invalid(
+                "no_collision",
+                l,
+                format!("no link of that name in {source}"),
+            ));
+        }
+    }
+    // The value of an off-path movable joint: `Err(v)`, a constant (0 clamped into its limits,
+    // or for a mimic joint `m·v(source) + o`), or `Ok((dof, m, o))` for a mimic (through any
+    // chain of mimics) of actuated joint `dof`.
+    let off_path_value = |ji: usize| -> std::result::Result<(usize, Real, Real), Real> {
+        let (mut mul, mut off) = (1.0, 0.0);
+        let mut cur = ji;
+        loop {
+            if let Some(&dof) = dof_of_joint.get(&cur) {
+                return Ok((dof, mul, off));
+            }
+            let j = &robot.joints[cur];
+            match &j.mimic {
+                Some(m) => {
+                    off += mul * m.offset.unwrap_or(0.0);
+                    mul *= m.multiplier.unwrap_or(1.0);
+                    cur = joint_index[m.joint.as_str()];
+                }
+                None => {
+                    let v0 = if j.joint_type == urdf_rs::JointType::Continuous {
+                        0.0
+                    } else {
+                        0.0_f64.clamp(j.limit.lower, j.limit.upper.max(j.limit.lower))
+                    };
+                    return Err(mul * v0 + off);
+                }
+            }
+        }
+    };
+
     // Links: compiled steps, rigid groups, collision geometry.
     let mut frozen = Vec::new();
     let mut ignored = Vec::new();
+    let mut sources = vec![SourceFile::from_bytes(source, text.as_bytes())];
+    let mut cache = MeshCache::new();
     let mut steps = Vec::with_capacity(order.len());
     let mut links: Vec<LinkInfo> = Vec::with_capacity(order.len());
     for (i, name) in order.iter().enumerate() {
@@ -491,36 +683,48 @@ fn build(
                 let ji = joint_of_child[name];
                 let motion = if let Some(&dof) = dof_of_joint.get(&ji) {
                     let axis = joints[dof].axis;
-                    LinkMotion::Revolute {
-                        dof,
-                        axis,
-                        is_z: (axis - Vec3::z()).norm() < crate::math::tol::PARALLEL,
+                    if j.joint_type == urdf_rs::JointType::Prismatic {
+                        LinkMotion::Prismatic { dof, axis }
+                    } else {
+                        LinkMotion::Revolute {
+                            dof,
+                            axis,
+                            is_z: (axis - Vec3::z()).norm() < crate::math::tol::PARALLEL,
+                        }
                     }
                 } else {
+                    let prismatic = j.joint_type == urdf_rs::JointType::Prismatic;
                     match j.joint_type {
-                        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
-                            let lo = if j.joint_type == urdf_rs::JointType::Continuous {
-                                0.0
-                            } else {
-                                j.limit.lower
-                            };
-                            let hi = if j.joint_type == urdf_rs::JointType::Continuous {
-                                0.0
-                            } else {
-                                j.limit.upper
-                            };
-                            let v: Real = 0.0_f64.clamp(lo, hi);
-                            frozen.push((j.name.clone(), v));
+                        urdf_rs::JointType::Revolute
+                        | urdf_rs::JointType::Continuous
+                        | urdf_rs::JointType::Prismatic => {
                             let axis = Vec3::from(*j.axis.xyz).normalize();
-                            origin.rot *= super::kinematics::axis_rotation(&axis, v);
+                            match off_path_value(ji) {
+                                Ok((dof, multiplier, offset)) => LinkMotion::Mimic {
+                                    dof,
+                                    axis,
+                                    multiplier,
+                                    offset,
+                                    prismatic,
+                                },
+                                Err(v) => {
+                                    frozen.push((j.name.clone(), v));
+                                    if prismatic {
+                                        origin.pos += origin.rot * (axis * v);
+                                    } else {
+                                        origin.rot *= super::kinematics::axis_rotation(&axis, v);
+                                    }
+                                    LinkMotion::Fixed
+                                }
+                            }
                         }
-                        urdf_rs::JointType::Fixed => {}
+                        urdf_rs::JointType::Fixed => LinkMotion::Fixed,
                         ref t => {
                             // Off the chain: frozen at its origin.
                             frozen.push((format!("{} ({t:?})", j.name), 0.0));
+                            LinkMotion::Fixed
                         }
                     }
-                    LinkMotion::Fixed
                 };
                 (
                     Some(p),
@@ -538,23 +742,28 @@ fn build(
             _ => i,
         };
         let mut collision = Vec::new();
-        for c in &ul.collision {
-            finite3(
-                source,
-                format!("link {name} collision origin xyz"),
-                &c.origin.xyz,
-            )?;
-            finite3(
-                source,
-                format!("link {name} collision origin rpy"),
-                &c.origin.rpy,
-            )?;
+        let mut meshes = Vec::new();
+        for (ei, c) in ul.collision.iter().enumerate() {
+            let what = format!("link {name} collision[{ei}]");
+            finite3(source, format!("{what} origin xyz"), &c.origin.xyz)?;
+            finite3(source, format!("{what} origin rpy"), &c.origin.rpy)?;
+            let origin = Frame::from_xyz_rpy(*c.origin.xyz, *c.origin.rpy);
             match shape_of(source, name, &c.geometry)? {
-                Ok(shape) => collision.push(CollisionGeometry {
-                    origin: Frame::from_xyz_rpy(*c.origin.xyz, *c.origin.rpy),
-                    shape,
-                }),
-                Err(what) => ignored.push(what),
+                Element::Primitive(shape) => collision.push(CollisionGeometry { origin, shape }),
+                Element::Mesh(filename, scale) => {
+                    let what = format!("{source}: {what}");
+                    let path = opts.search.resolve(filename, urdf_dir, &what)?;
+                    let mesh = mesh::load_cached(&mut cache, &path, scale, &what)?;
+                    if !sources.contains(&mesh.source) {
+                        sources.push(mesh.source.clone());
+                    }
+                    meshes.push(MeshGeometry {
+                        origin,
+                        filename: filename.to_string(),
+                        scale,
+                        mesh,
+                    });
+                }
             }
         }
         steps.push(step);
@@ -564,7 +773,60 @@ fn build(
             joint: joint_name,
             group,
             collision,
+            meshes,
         });
+    }
+    for l in &opts.no_collision {
+        let li = index[l.as_str()];
+        if links[li].has_collision() {
+            return Err(Error::invalid(
+                "no_collision",
+                l,
+                format!("{source}: the link has collision geometry; remove it from no_collision"),
+            ));
+        }
+    }
+    // Every rigid group on the path to the tool must have something to check.
+    let mut on_path: Vec<usize> = vec![index[tip.as_str()]];
+    while let Some(p) = links[*on_path.last().expect("non-empty")].parent {
+        on_path.push(p);
+    }
+    let mut groups_seen = HashSet::new();
+    for &li in on_path.iter().rev() {
+        let g = links[li].group;
+        if !groups_seen.insert(g) {
+            continue;
+        }
+        let members: Vec<&LinkInfo> = links.iter().filter(|l| l.group == g).collect();
+        if members.iter().any(|l| l.has_collision()) {
+            continue;
+        }
+        let allowed: Vec<&str> = members
+            .iter()
+            .map(|l| l.name.as_str())
+            .filter(|n| opts.no_collision.iter().any(|x| x == n))
+            .collect();
+        let lead = &links[g];
+        if allowed.is_empty() {
+            let names: Vec<&str> = members.iter().map(|l| l.name.as_str()).collect();
+            return Err(bad(
+                source,
+                format!("link {} collision", lead.name),
+                "(none)",
+                &format!(
+                    "no collision geometry on this link{} (rigidly joined links: {}): collisions of it would never be checked. Add a <collision> element, or list the link in the rig's no_collision = [...] if that is intended",
+                    lead.joint
+                        .as_ref()
+                        .map(|j| format!(", moved by joint {j}"))
+                        .unwrap_or_default(),
+                    names.join(", ")
+                ),
+            ));
+        }
+        ignored.push(format!(
+            "{}: no collision geometry (no_collision)",
+            allowed.join(", ")
+        ));
     }
     let chain = Chain::compile(&path, steps);
     Ok(RobotModel {
@@ -576,8 +838,8 @@ fn build(
         links,
         frozen,
         ignored,
+        sources,
         chain,
         urdf: robot.clone(),
-        sources: vec![SourceFile::from_bytes(source, text.as_bytes())],
     })
 }

@@ -3,6 +3,7 @@
 //! test folder on first use ([`seed`]). Nothing is read from outside the repository.
 
 pub mod png;
+pub mod robots;
 pub mod seed;
 
 use std::path::PathBuf;

@@ -23,7 +23,7 @@
 //! points between the drawn solids of its two bodies (parry's `query::contact`, world frame);
 //! their distance equals the collision model's (tested).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::helix::Helix;
 use crate::math::{rot_z, Iso3, Mat3, Real, Vec3};
 use crate::planning::rig::Rig;
@@ -320,19 +320,10 @@ pub struct Scene {
 impl Scene {
     /// Load the rig's robot and build the collision model of robot + scene. Errors name the rig.
     pub fn new(rig: &Rig) -> Result<Scene> {
-        let src = rig.robot.source();
-        let model = RobotModel::load(&src, Some(&rig.robot.tip_link)).map_err(|e| {
-            Error::invalid(
-                format!("{}: robot", rig.source),
-                format!("urdf = {:?}", rig.robot.urdf),
-                format!("cannot load the robot: {e}"),
-            )
-        })?;
-        let mut collision = CollisionModel::for_model(&model)
-            .map_err(|e| Error::invalid(format!("{}: robot", rig.source), "", e.to_string()))?;
-        collision
-            .set_obstacles(&rig.obstacles)
-            .map_err(|e| Error::invalid(format!("{}: obstacle", rig.source), "", e.to_string()))?;
+        let model = rig.robot.load_model(&rig.source)?;
+        let collision = rig
+            .robot
+            .collision_model(&model, &rig.obstacles, &rig.source)?;
         let mut statics = Vec::new();
         for (k, o) in rig.obstacles.iter().enumerate() {
             let pose = Frame::from_xyz_rpy(o.pose.xyz, o.pose.rpy);

@@ -99,6 +99,74 @@ impl DisabledPairs {
         })
     }
 
+    /// The `<disable_collisions link1=… link2=… reason=…/>` elements of a MoveIt SRDF; `source`
+    /// names it in errors (a malformed file, an element without both links). Unknown link names
+    /// are reported when the list is applied to a model.
+    ///
+    /// ```
+    /// use helixreach::robot::DisabledPairs;
+    /// let d = DisabledPairs::from_srdf(
+    ///     r#"<robot name="r"><disable_collisions link1="a" link2="b" reason="Adjacent"/></robot>"#,
+    ///     "r.srdf",
+    /// ).unwrap();
+    /// assert_eq!((d.disabled[0].a.as_str(), d.disabled[0].b.as_str()), ("a", "b"));
+    /// assert!(DisabledPairs::from_srdf("<robot>", "bad.srdf").unwrap_err().to_string().contains("bad.srdf"));
+    /// ```
+    pub fn from_srdf(text: &str, source: &str) -> Result<DisabledPairs> {
+        let doc = roxmltree::Document::parse(text).map_err(|e| Error::File {
+            path: source.into(),
+            reason: format!("malformed SRDF: {e}"),
+        })?;
+        let mut disabled = Vec::new();
+        for n in doc
+            .descendants()
+            .filter(|n| n.has_tag_name("disable_collisions"))
+        {
+            let pos = doc.text_pos_at(n.range().start);
+            let (Some(a), Some(b)) = (n.attribute("link1"), n.attribute("link2")) else {
+                return Err(Error::BadLine {
+                    path: source.into(),
+                    line: pos.row as usize,
+                    field: "disable_collisions".into(),
+                    reason: "needs both link1 and link2".into(),
+                });
+            };
+            disabled.push(DisabledPair {
+                a: a.to_string(),
+                b: b.to_string(),
+                reason: n.attribute("reason").unwrap_or("srdf").to_string(),
+            });
+        }
+        Ok(DisabledPairs {
+            samples: 0,
+            seed: 0,
+            disabled,
+        })
+    }
+
+    /// Read a MoveIt SRDF file ([`DisabledPairs::from_srdf`]).
+    pub fn from_srdf_file(path: &std::path::Path) -> Result<DisabledPairs> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_srdf(&text, &path.display().to_string())
+    }
+
+    /// This list and `other`'s pairs (duplicates kept once).
+    pub fn merged(mut self, other: &DisabledPairs) -> DisabledPairs {
+        for p in &other.disabled {
+            let dup = self
+                .disabled
+                .iter()
+                .any(|q| (q.a == p.a && q.b == p.b) || (q.a == p.b && q.b == p.a));
+            if !dup {
+                self.disabled.push(p.clone());
+            }
+        }
+        self
+    }
+
     /// The list for a model: the built-in one, or `<urdf stem>.collision.toml` beside the URDF
     /// file if it exists, else empty.
     pub fn for_model(model: &RobotModel) -> Result<DisabledPairs> {

@@ -40,7 +40,7 @@ use crate::math::{Real, Vec3};
 use narrow::{Body, Owner, Posed};
 use parry3d_f64::query;
 use std::ops::ControlFlow;
-use walk::{FirstHit, Nearest, Visit};
+use walk::{AllHits, FirstHit, Nearest, Visit};
 
 /// The rod as thin capsules between consecutive nodes (robot root frame, clamp end first).
 #[derive(Clone, Copy, Debug)]
@@ -101,7 +101,62 @@ pub struct CollisionModel {
     obstacle_names: Vec<String>,
     /// Body pairs checked for self-collision (indices into `bodies`).
     self_pairs: Vec<(u16, u16)>,
+    /// Mesh bodies (convex hulls) among `bodies`.
+    n_meshes: usize,
+    /// Padding.
+    settings: CollisionSettings,
 }
+
+/// Padding of the robot's collision bodies (m): every body of a link is grown by the link's
+/// padding (`link_padding`, else `padding`): a pair is in contact when the shapes are within
+/// the sum of their paddings. Scene obstacles and the rod are not padded.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CollisionSettings {
+    /// Padding of every link (m, ≥ 0).
+    pub padding: Real,
+    /// Per-link padding (m, ≥ 0), overriding `padding`.
+    pub link_padding: Vec<(String, Real)>,
+}
+
+impl CollisionSettings {
+    /// The padding of link `name`.
+    pub fn pad_of(&self, name: &str) -> Real {
+        self.link_padding
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(self.padding, |(_, p)| *p)
+    }
+
+    /// Finite, ≥ 0, at most [`MAX_PADDING`]; every per-link name is a link of `model`.
+    pub fn validate(&self, model: &RobotModel) -> Result<()> {
+        let check = |what: String, v: Real| -> Result<()> {
+            if v.is_finite() && (0.0..=MAX_PADDING).contains(&v) {
+                Ok(())
+            } else {
+                Err(crate::error::Error::invalid(
+                    what,
+                    v,
+                    format!("must be finite, in 0..={MAX_PADDING} m"),
+                ))
+            }
+        };
+        check("padding".into(), self.padding)?;
+        for (n, p) in &self.link_padding {
+            check(format!("link_padding.{n}"), *p)?;
+            if model.link_index(n).is_none() {
+                return Err(crate::error::Error::invalid(
+                    "link_padding",
+                    n,
+                    format!("no link of that name in {}", model.source()),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Largest padding accepted (m): more is a typo (millimetres for metres), not a margin.
+pub const MAX_PADDING: Real = 0.5;
 
 impl CollisionModel {
     /// Build from a model, its disabled pairs and a scene.
@@ -110,20 +165,53 @@ impl CollisionModel {
         disabled: &DisabledPairs,
         obstacles: &[SceneObstacle],
     ) -> Result<CollisionModel> {
+        Self::with_settings(model, disabled, obstacles, &CollisionSettings::default())
+    }
+
+    /// Build with padding ([`CollisionSettings`]).
+    pub fn with_settings(
+        model: &RobotModel,
+        disabled: &DisabledPairs,
+        obstacles: &[SceneObstacle],
+        settings: &CollisionSettings,
+    ) -> Result<CollisionModel> {
+        settings.validate(model)?;
         let links = model.links();
-        let bodies: Vec<Body> = links
-            .iter()
-            .enumerate()
-            .flat_map(|(li, l)| {
-                l.collision
-                    .iter()
-                    .map(move |c| Body::new(Owner::Link(li), &c.shape, &c.origin))
-            })
-            .collect();
+        let mut bodies: Vec<Body> = Vec::new();
+        for (li, l) in links.iter().enumerate() {
+            let pad = settings.pad_of(&l.name);
+            for c in &l.collision {
+                bodies.push(Body::new(Owner::Link(li), &c.shape, &c.origin).padded(pad));
+            }
+            for m in &l.meshes {
+                bodies.push(
+                    Body::hull(
+                        Owner::Link(li),
+                        m.mesh.hull.clone(),
+                        &m.mesh.hull_points,
+                        &m.origin,
+                    )
+                    .padded(pad),
+                );
+            }
+        }
+        if bodies.len() > u16::MAX as usize {
+            return Err(crate::error::Error::invalid(
+                "collision bodies",
+                bodies.len(),
+                format!(
+                    "{}: at most {} collision elements",
+                    model.source(),
+                    u16::MAX
+                ),
+            ));
+        }
         let self_pairs = disabled::self_pairs(model, &bodies, disabled)?;
         let mut cm = CollisionModel {
             chain: model.chain().clone(),
             link_names: links.iter().map(|l| l.name.clone()).collect(),
+            n_meshes: links.iter().map(|l| l.meshes.len()).sum(),
+            settings: settings.clone(),
             bodies,
             obstacles: Vec::new(),
             obstacle_posed: Vec::new(),
@@ -170,6 +258,45 @@ impl CollisionModel {
     /// Number of body pairs checked for self-collision.
     pub fn n_self_pairs(&self) -> usize {
         self.self_pairs.len()
+    }
+
+    /// Number of robot collision bodies.
+    pub fn n_bodies(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Print [`CollisionModel::summary`] on stderr, once per process for each distinct text
+    /// (a sweep that builds the same model many times says it once).
+    pub fn announce(&self) {
+        static SAID: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+        let s = self.summary();
+        let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
+        if !said.contains(&s) {
+            eprintln!("{s}");
+            said.push(s);
+        }
+    }
+
+    /// One line saying what is checked: bodies (primitives, mesh hulls), self pairs, scene
+    /// obstacles, padding. Commands print it once on stderr.
+    pub fn summary(&self) -> String {
+        let pad = if self.settings.link_padding.is_empty() {
+            format!("padding {} m", self.settings.padding)
+        } else {
+            format!(
+                "padding {} m ({} links padded otherwise)",
+                self.settings.padding,
+                self.settings.link_padding.len()
+            )
+        };
+        format!(
+            "collision: {} robot bodies ({} primitives, {} mesh convex hulls), {} self-collision body pairs, {} scene obstacles, {pad}",
+            self.bodies.len(),
+            self.bodies.len() - self.n_meshes,
+            self.n_meshes,
+            self.self_pairs.len(),
+            self.obstacles.len()
+        )
     }
 
     /// The links of robot bodies `i` and `j`.
@@ -223,6 +350,21 @@ impl CollisionModel {
     /// First self-collision at the posed configuration, if any.
     pub fn self_collision(&self, ws: &CollisionWorkspace) -> Option<Contact> {
         Self::run(|v: &mut FirstHit| self.walk_self(ws, v)).0
+    }
+
+    /// Every link pair in self-collision at the posed configuration (link indices, each pair
+    /// once, in walk order).
+    pub fn self_collisions(&self, ws: &CollisionWorkspace) -> Vec<(usize, usize)> {
+        let all = Self::run(|v: &mut AllHits| self.walk_self(ws, v)).0;
+        let mut out: Vec<(usize, usize)> = Vec::new();
+        for c in all {
+            if let (BodyRef::Link(a), BodyRef::Link(b)) = (c.a, c.b) {
+                if !out.contains(&(a, b)) {
+                    out.push((a, b));
+                }
+            }
+        }
+        out
     }
 
     /// First robot–obstacle collision at the posed configuration, if any.
@@ -284,9 +426,15 @@ impl CollisionModel {
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
             let pi = ws.frames[li].mul(&bi.local).to_iso();
             let pj = ws.frames[lj].mul(&bj.local).to_iso();
-            if query::intersection_test(&pi, bi.parry.as_ref(), &pj, bj.parry.as_ref())
-                .unwrap_or(true)
-            {
+            let pad = bi.pad + bj.pad;
+            let hit = if pad > 0.0 {
+                query::distance(&pi, bi.parry.as_ref(), &pj, bj.parry.as_ref()).unwrap_or(0.0)
+                    <= pad
+            } else {
+                query::intersection_test(&pi, bi.parry.as_ref(), &pj, bj.parry.as_ref())
+                    .unwrap_or(true)
+            };
+            if hit {
                 out.push((li, lj));
             }
         }

@@ -53,8 +53,10 @@ pub(super) struct Body {
     pub(super) ssv: Option<Ssv>,
     /// Bounding ball: centre in the owner's frame.
     pub(super) center: Vec3,
-    /// Bounding ball radius.
+    /// Bounding ball radius (padding included).
     pub(super) radius: Real,
+    /// Padding (m): the body is the set of points within `pad` of its shape.
+    pub(super) pad: Real,
 }
 
 /// A body posed in the root frame (by [`Body::pose`]).
@@ -111,7 +113,37 @@ impl Body {
             ssv,
             center: origin.pos,
             radius: shape.bounding_radius(),
+            pad: 0.0,
         }
+    }
+
+    /// A convex hull (`points` its vertices in the shape's frame, `shape` the parry polyhedron)
+    /// at `origin` (in the owner's frame).
+    pub(super) fn hull(owner: Owner, shape: SharedShape, points: &[Vec3], origin: &Frame) -> Body {
+        let (mut lo, mut hi) = (Vec3::repeat(Real::MAX), Vec3::repeat(Real::MIN));
+        for p in points {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let c = 0.5 * (lo + hi);
+        let r = points.iter().map(|p| (p - c).norm()).fold(0.0, Real::max);
+        Body {
+            owner,
+            local: *origin,
+            parry: shape,
+            ssv: None,
+            center: origin.transform_point(&c),
+            // Rounding slack: the ball must never be tighter than the hull.
+            radius: r * (1.0 + 1e-12) + 1e-12,
+            pad: 0.0,
+        }
+    }
+
+    /// The body grown by `pad` metres (`pad ≥ 0`).
+    pub(super) fn padded(mut self, pad: Real) -> Body {
+        self.pad = pad;
+        self.radius += pad;
+        self
     }
 
     /// Pose the body by its owner's frame `f` (root frame) into `p`.
@@ -153,6 +185,15 @@ pub(super) enum Part<'a> {
 }
 
 impl Part<'_> {
+    /// Padding (m; 0 for rod segments).
+    #[inline]
+    fn pad(&self) -> Real {
+        match *self {
+            Part::Body(b, _) => b.pad,
+            Part::Segment(..) => 0.0,
+        }
+    }
+
     /// Bounding ball (centre, radius).
     #[inline]
     pub(super) fn bound(&self) -> (Vec3, Real) {
@@ -189,11 +230,20 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
     if (cx - cy).norm_squared() > r * r {
         return false;
     }
+    let pad = x.pad() + y.pad();
     match (x.ssv(), y.ssv()) {
         (Some((a1, b1, r1)), Some((a2, b2, r2))) => {
-            let rr = r1 + r2;
+            let rr = r1 + r2 + pad;
             segment_distance_squared(&a1, &b1, &a2, &b2) <= rr * rr
         }
+        _ if pad > 0.0 => x.with_parry(|i1, s1| {
+            y.with_parry(|i2, s2| {
+                !matches!(
+                    query::closest_points(i1, s1, i2, s2, pad),
+                    Ok(query::ClosestPoints::Disjoint)
+                )
+            })
+        }),
         _ => x.with_parry(|i1, s1| {
             y.with_parry(|i2, s2| query::intersection_test(i1, s1, i2, s2).unwrap_or(true))
         }),
@@ -202,6 +252,11 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
 
 /// Distance between two posed parts (m; 0 when touching or overlapping).
 pub(super) fn distance(x: &Part<'_>, y: &Part<'_>) -> Real {
+    (shape_distance(x, y) - x.pad() - y.pad()).max(0.0)
+}
+
+/// Distance between the unpadded shapes.
+fn shape_distance(x: &Part<'_>, y: &Part<'_>) -> Real {
     match (x.ssv(), y.ssv()) {
         (Some((a1, b1, r1)), Some((a2, b2, r2))) => {
             (segment_distance_squared(&a1, &b1, &a2, &b2).sqrt() - r1 - r2).max(0.0)

@@ -42,6 +42,25 @@ impl Visit for FirstHit {
     }
 }
 
+/// Keeps every intersecting pair.
+#[derive(Debug, Default)]
+pub(super) struct AllHits(pub(super) Vec<Contact>);
+
+impl Visit for AllHits {
+    const SKIP_DISJOINT: bool = true;
+
+    fn visit(&mut self, a: BodyRef, x: &Part<'_>, b: BodyRef, y: &Part<'_>) -> ControlFlow<()> {
+        if intersects(x, y) {
+            self.0.push(Contact {
+                a,
+                b,
+                distance: 0.0,
+            });
+        }
+        ControlFlow::Continue(())
+    }
+}
+
 /// Keeps the first pair of smallest distance.
 #[derive(Debug, Default)]
 pub(super) struct Nearest(pub(super) Option<Contact>);

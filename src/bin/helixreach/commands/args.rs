@@ -114,3 +114,40 @@ impl RigOverrideArgs {
             .map_err(|e| anyhow::anyhow!("--margin / --clamp: {e}"))
     }
 }
+
+/// How a URDF given on the command line is loaded: mesh search paths, links meant to have no
+/// collision geometry (`fk`, `ik`, `robot`, `check --robot`, `rig init`).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct RobotLoadArgs {
+    /// A package directory for `package://NAME/...` mesh names (repeatable; searched before
+    /// ROS_PACKAGE_PATH): `DIR/NAME/...`, or `DIR/...` when DIR itself is named NAME.
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_path: Vec<PathBuf>,
+    /// A link meant to have no collision geometry (repeatable); any other link on the arm
+    /// without collision geometry is an error.
+    #[arg(long = "no-collision", value_name = "LINK")]
+    pub no_collision: Vec<String>,
+}
+
+impl RobotLoadArgs {
+    /// The loader options.
+    pub fn options(&self) -> helixreach::robot::LoadOptions {
+        helixreach::robot::LoadOptions {
+            search: helixreach::robot::mesh::MeshSearch::new(self.package_path.clone()),
+            no_collision: self.no_collision.clone(),
+        }
+    }
+
+    /// Load `robot` (a built-in name or a URDF path) with tool link `tip`.
+    pub fn load(
+        &self,
+        robot: &str,
+        tip: Option<&str>,
+    ) -> anyhow::Result<helixreach::robot::RobotModel> {
+        Ok(helixreach::robot::RobotModel::load_with(
+            robot,
+            tip,
+            &self.options(),
+        )?)
+    }
+}

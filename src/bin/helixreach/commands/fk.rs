@@ -2,7 +2,6 @@
 //! `{"position":[x,y,z],"rotation":[[…],[…],[…]]}` (rows of R, URDF root frame, metres).
 
 use anyhow::Context;
-use helixreach::robot::RobotModel;
 
 /// Arguments of `helixreach fk`.
 #[derive(Debug, clap::Args)]
@@ -13,6 +12,9 @@ pub struct Args {
     /// Tool link (default: the robot's tool link).
     #[arg(long)]
     pub tip: Option<String>,
+    /// Mesh search paths and links without collision geometry.
+    #[command(flatten)]
+    pub load: super::args::RobotLoadArgs,
     /// Joint values (rad), comma-separated, root first.
     #[arg(long, allow_hyphen_values = true)]
     pub joints: String,
@@ -32,7 +34,7 @@ pub fn parse_list(what: &str, s: &str) -> anyhow::Result<Vec<f64>> {
 
 /// Run `helixreach fk`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let model = RobotModel::load(&args.robot, args.tip.as_deref())?;
+    let model = args.load.load(&args.robot, args.tip.as_deref())?;
     let q = parse_list("--joints", &args.joints)?;
     let f = model.tool_pose(&q)?;
     let r = f.rot;

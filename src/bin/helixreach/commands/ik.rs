@@ -4,7 +4,7 @@
 
 use super::fk::parse_list;
 use helixreach::records::ik::{ik_csv, IkSolutionRecord};
-use helixreach::robot::{pose_from_xyz_wxyz, IkParams, IkSolver, IkTarget, RobotModel};
+use helixreach::robot::{pose_from_xyz_wxyz, IkParams, IkSolver, IkTarget};
 use std::io::Write;
 
 /// Arguments of `helixreach ik`.
@@ -16,6 +16,9 @@ pub struct Args {
     /// Tool link (default: the robot's tool link).
     #[arg(long)]
     pub tip: Option<String>,
+    /// Mesh search paths and links without collision geometry.
+    #[command(flatten)]
+    pub load: super::args::RobotLoadArgs,
     /// Tool pose in the root frame: x,y,z,qw,qx,qy,qz (m; unit quaternion).
     #[arg(long, allow_hyphen_values = true)]
     pub pose: String,
@@ -42,7 +45,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     use helixreach::limits::{check_size, MAX_IK_RESTARTS, MAX_IK_SAMPLES};
     check_size("--samples", args.samples, MAX_IK_SAMPLES)?;
     check_size("--restarts", args.restarts, MAX_IK_RESTARTS)?;
-    let model = RobotModel::load(&args.robot, args.tip.as_deref())?;
+    let model = args.load.load(&args.robot, args.tip.as_deref())?;
     let pose = pose_from_xyz_wxyz(&parse_list("--pose", &args.pose)?)?;
     let mut target = IkTarget::pose(pose)?;
     if args.free_roll {

@@ -1,6 +1,6 @@
 //! `helixreach robot`: print a robot's chain, joint limits and collision bodies.
 
-use helixreach::robot::{CollisionModel, DisabledPairs, RobotModel, Shape};
+use helixreach::robot::{CollisionModel, DisabledPairs, Shape};
 use std::path::PathBuf;
 
 /// Arguments of `helixreach robot`.
@@ -12,6 +12,9 @@ pub struct Args {
     /// Tool link (default: the robot's tool link).
     #[arg(long)]
     pub tip: Option<String>,
+    /// Mesh search paths and links without collision geometry.
+    #[command(flatten)]
+    pub load: super::args::RobotLoadArgs,
     /// Recompute the never-colliding link pairs by sampling and write them to this file
     /// (e.g. robots/sawyer.collision.toml).
     #[arg(long)]
@@ -67,7 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )?;
         disabled_out(&args, path).check()?;
     }
-    let m = RobotModel::load(&args.robot, args.tip.as_deref())?;
+    let m = args.load.load(&args.robot, args.tip.as_deref())?;
     println!("robot {} ({})", m.name(), m.source());
     println!(
         "chain {} -> {} ({} joints)",
@@ -112,8 +115,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
     }
+    for l in m.links() {
+        for g in &l.meshes {
+            let p = g.origin.pos;
+            println!(
+                "  {:<20} {:<36} at [{:.4}, {:.4}, {:.4}]",
+                l.name,
+                format!(
+                    "mesh {} ({} triangles, hull {} vertices)",
+                    g.mesh.file.display(),
+                    g.mesh.triangles.len(),
+                    g.mesh.hull_points.len()
+                ),
+                p.x,
+                p.y,
+                p.z
+            );
+        }
+    }
     for s in m.ignored_geometry() {
-        println!("  ignored (not a primitive): {s}");
+        println!("  accepted without collision geometry: {s}");
     }
     if let Some(path) = &args.write_disabled {
         let d = DisabledPairs::compute(&m, args.samples, args.seed)?;
@@ -127,6 +148,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let cm = CollisionModel::for_model(&m)?;
+    cm.announce();
     let disabled = DisabledPairs::for_model(&m)?;
     println!(
         "self-collision: {} body pairs checked; {} link pairs disabled ({} samples)",
