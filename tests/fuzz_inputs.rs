@@ -259,8 +259,8 @@ fn urdf(joint_limit: &str, origin: &str) -> String {
     format!(
         r#"<?xml version="1.0"?>
 <robot name="r">
-  <link name="base"/>
-  <link name="tip"/>
+  <link name="base"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <link name="tip"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
   <joint name="j1" type="revolute">
     <parent link="base"/><child link="tip"/>
     <origin xyz="{origin}" rpy="0 0 0"/>
