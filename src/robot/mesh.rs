@@ -12,9 +12,9 @@
 //! A mesh that resolves nowhere is an error listing every path searched.
 //!
 //! # Bounds
-//! A mesh file larger than [`MAX_MESH_FILE_BYTES`](crate::limits::MAX_MESH_FILE_BYTES) is an
+//! A mesh file larger than [`MAX_MESH_FILE_BYTES`] is an
 //! error before it is read (a 2-million-triangle binary STL is 100 MB), and so is a mesh with
-//! more than [`MAX_MESH_TRIANGLES`](crate::limits::MAX_MESH_TRIANGLES) triangles, so memory
+//! more than [`MAX_MESH_TRIANGLES`] triangles, so memory
 //! stays bounded. An empty mesh, a non-finite vertex, a non-positive or non-finite `scale`, an
 //! unsupported format and a flat (zero-volume) mesh are errors too.
 //!
