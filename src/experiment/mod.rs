@@ -58,7 +58,9 @@ pub struct Settings {
     pub mode: String,
     /// The rig: a rig file or the name of an embedded rig.
     pub rig: String,
-    /// Rayon threads.
+    /// Worker threads of every parallel stage ([`run`] runs the study on a pool of this many;
+    /// 1..=[`crate::limits::MAX_THREADS`]). Every number but the timings is the same for any
+    /// count. Default: the calling pool's size.
     pub threads: usize,
     /// Continuum boundary: Fibonacci half-sphere size.
     pub continuum_directions: usize,
@@ -168,6 +170,7 @@ impl Settings {
 
     /// Check every size against its bound (clear errors naming the field and value).
     pub fn validate(&self) -> Result<()> {
+        crate::limits::check_range("threads", self.threads, 1, crate::limits::MAX_THREADS)?;
         let sizes = [
             ("continuum_directions", self.continuum_directions),
             ("fan_directions", self.fan_directions),
@@ -213,16 +216,31 @@ impl Settings {
     }
 }
 
-/// Stage progress on stderr with the elapsed time: `[  12.3 s] stage: message`.
+/// Stage progress on stderr with the elapsed time: `[  12.3 s] stage: message` (nothing when
+/// quiet, neither the lines nor the sweeps' progress).
 #[derive(Debug, Clone, Copy)]
 pub struct Log {
     t0: Instant,
+    quiet: bool,
 }
 
 impl Log {
     /// A log whose clock starts now.
     pub fn start() -> Log {
-        Log { t0: Instant::now() }
+        Log {
+            t0: Instant::now(),
+            quiet: false,
+        }
+    }
+
+    /// This log, printing nothing when `quiet`.
+    pub fn quiet(self, quiet: bool) -> Log {
+        Log { quiet, ..self }
+    }
+
+    /// Whether progress is shown (not quiet).
+    pub fn shows(&self) -> bool {
+        !self.quiet
     }
 
     /// Seconds since the start.
@@ -232,6 +250,9 @@ impl Log {
 
     /// Print one line.
     pub fn say(&self, stage: &str, msg: impl AsRef<str>) {
+        if self.quiet {
+            return;
+        }
         eprintln!("[{:>6.1} s] {stage}: {}", self.elapsed(), msg.as_ref());
     }
 }
@@ -369,6 +390,18 @@ pub fn run(settings: &Settings, opts: &RunOptions) -> Result<StudyReport> {
 /// [`run`] with a given log clock (the demo starts it before parsing).
 pub fn run_with_log(settings: &Settings, opts: &RunOptions, log: &Log) -> Result<StudyReport> {
     settings.validate()?;
+    if settings.threads == rayon::current_num_threads() {
+        return run_stages(settings, opts, log);
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(settings.threads)
+        .build()
+        .map_err(|e| Error::invalid("threads", settings.threads, e.to_string()))?
+        .install(|| run_stages(settings, opts, log))
+}
+
+/// The stages of [`run_with_log`], on the calling pool.
+fn run_stages(settings: &Settings, opts: &RunOptions, log: &Log) -> Result<StudyReport> {
     // A rig that does not load fails the run before any work. Its rod is the rod of the
     // simulating stages (ν of the DER statics, the whole rod of the dynamics).
     let rig = crate::planning::rig::Rig::load(&settings.rig)?;

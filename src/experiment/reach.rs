@@ -87,13 +87,14 @@ fn sweep(
     opts: &ReachOptions,
     path: &Path,
     resume: bool,
+    log: &Log,
 ) -> Result<(Vec<ReachRow>, String)> {
     let mut so = SweepOptions::new(path, REACH_HEADER, 3);
     // A rerun of the study replaces its earlier sweeps (only once each is complete), unless it
     // resumes them; resume refuses rows made with other settings (the driver's record).
     so.resume = resume;
     so.force = !resume;
-    so.progress = true;
+    so.progress = log.shows();
     sweep_reach::run(planner, dirs, None, opts, &so)?;
     let text = std::fs::read_to_string(path).map_err(|source| crate::Error::Io {
         path: path.to_path_buf(),
@@ -129,6 +130,7 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
             &opts,
             &out.join(format!("reach_{label}.csv")),
             resume,
+            log,
         )?;
         let wall = t.elapsed().as_secs_f64();
         let (f, ftext) = sweep(
@@ -137,6 +139,7 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
             &opts,
             &out.join(format!("reach_omega0_{label}.csv")),
             resume,
+            log,
         )?;
         let s = summary(&r, &opts.azimuths, wall);
         log.say(

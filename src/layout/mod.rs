@@ -119,7 +119,7 @@ pub struct RunControl {
     pub force: bool,
     /// Only this shard of the (candidate, direction) items; no summary outputs.
     pub shard: Option<Shard>,
-    /// Progress bar on stderr.
+    /// Progress and the summary line on stderr.
     pub progress: bool,
 }
 
@@ -372,15 +372,17 @@ pub fn run(
         )
         .setting("end_pose_check", opts.end_pose_check.to_string());
     let summary = sweep.run(&so)?;
-    eprintln!(
-        "layout: {} rays ({} candidates × {} directions; {} computed, {} resumed) -> {}",
-        summary.total,
-        cands.len(),
-        dirs.len(),
-        summary.computed,
-        summary.resumed,
-        rays_path.display()
-    );
+    if control.progress {
+        eprintln!(
+            "layout: {} rays ({} candidates × {} directions; {} computed, {} resumed) -> {}",
+            summary.total,
+            cands.len(),
+            dirs.len(),
+            summary.computed,
+            summary.resumed,
+            rays_path.display()
+        );
+    }
     if control.shard.is_some() {
         return Ok(None);
     }

@@ -14,6 +14,9 @@ use std::process::ExitCode;
 #[derive(Debug, Parser)]
 #[command(name = "helixreach", version, about)]
 struct Cli {
+    /// `--threads`, `--quiet`: taken by every subcommand.
+    #[command(flatten)]
+    global: commands::Global,
     #[command(subcommand)]
     command: Command,
 }
@@ -107,7 +110,30 @@ fn main() -> ExitCode {
         Ok(c) => c,
         Err(e) => e.exit(),
     };
-    let result = match cli.command {
+    commands::set_global(cli.global);
+    let result = commands::with_threads(cli.global.threads, || run(cli.command));
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            if e.chain().any(|c| {
+                c.downcast_ref::<std::io::Error>()
+                    .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+            }) {
+                return ExitCode::SUCCESS;
+            }
+            if let Some(v) = e.downcast_ref::<commands::Verdict>() {
+                eprintln!("{v}");
+                return ExitCode::from(v.code);
+            }
+            eprintln!("error: {}", message(&e));
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Run one subcommand.
+fn run(command: Command) -> anyhow::Result<()> {
+    match command {
         Command::Helix(a) => commands::helix::run(a),
         Command::Boundary(a) => commands::boundary::run(a),
         Command::Bifurcation(a) => commands::bifurcation::run(a),
@@ -127,22 +153,5 @@ fn main() -> ExitCode {
         Command::Plot(a) => commands::plot::run(a),
         Command::Render(a) => commands::render::run(a),
         Command::Demo(a) => commands::demo::run(a),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            if e.chain().any(|c| {
-                c.downcast_ref::<std::io::Error>()
-                    .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
-            }) {
-                return ExitCode::SUCCESS;
-            }
-            if let Some(v) = e.downcast_ref::<commands::Verdict>() {
-                eprintln!("{v}");
-                return ExitCode::from(v.code);
-            }
-            eprintln!("error: {}", message(&e));
-            ExitCode::from(2)
-        }
     }
 }

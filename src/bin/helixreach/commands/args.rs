@@ -51,24 +51,6 @@ pub fn checkpoint_interval(secs: f64) -> anyhow::Result<std::time::Duration> {
     Ok(std::time::Duration::from_secs_f64(secs))
 }
 
-/// Run `go` on a pool of `threads` worker threads (default: rayon's global pool, one per core).
-/// `threads` must lie in 1..=[`MAX_THREADS`](helixreach::limits::MAX_THREADS); errors name
-/// `--threads`.
-pub fn with_threads<T: Send>(
-    threads: Option<usize>,
-    go: impl FnOnce() -> anyhow::Result<T> + Send,
-) -> anyhow::Result<T> {
-    let Some(n) = threads else {
-        return go();
-    };
-    helixreach::limits::check_range("--threads", n, 1, helixreach::limits::MAX_THREADS)?;
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(n)
-        .build()
-        .map_err(|e| anyhow::anyhow!("--threads {n}: cannot start the worker threads: {e}"))?
-        .install(go)
-}
-
 /// Overrides of a rig's settings for one run.
 #[derive(Debug, clap::Args)]
 pub struct RigOverrideArgs {

@@ -111,7 +111,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     opts.force = a.force;
     opts.shard = a.shard;
     opts.checkpoint_interval = checkpoint;
-    opts.progress = true;
+    opts.progress = !super::global().quiet;
     let t0 = Instant::now();
     let summary = driver::run(
         &dirs,
@@ -119,7 +119,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         |d| row(d, &classify(d, &p)?, &resolution),
         &opts,
     )?;
-    eprintln!(
+    status!(
         "bifurcation: {} directions ({} computed, {} resumed) in {:.3} s -> {}",
         summary.total,
         summary.computed,

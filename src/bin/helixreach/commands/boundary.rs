@@ -223,7 +223,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     opts.force = a.force;
     opts.shard = a.shard;
     opts.checkpoint_interval = checkpoint;
-    opts.progress = true;
+    opts.progress = !super::global().quiet;
     let t0 = Instant::now();
     let summary = driver::run(
         &dirs,
@@ -238,7 +238,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         },
         &opts,
     )?;
-    eprintln!(
+    status!(
         "boundary: {} directions ({} computed, {} resumed) in {:.3} s -> {}",
         summary.total,
         summary.computed,
@@ -339,7 +339,7 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
         errs.sort_by(|x, y| x.total_cmp(y));
         let max = *errs.last().unwrap_or(&0.0);
         let med = errs[errs.len() / 2];
-        eprintln!(
+        status!(
             "{method} {label}: {:.3e} s/direction, max rel err {max:.3e}, median {med:.3e}",
             per
         );

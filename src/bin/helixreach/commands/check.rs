@@ -103,7 +103,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .unwrap_or_else(|| rig.azimuths.first().copied().unwrap_or(0.0));
     let checker = Checker::new(rig)?;
     let traj = checker.read(&args.joints)?;
-    eprintln!(
+    status!(
         "checking {} rows of {} ({}) on rig {}",
         traj.rows(),
         args.joints.display(),

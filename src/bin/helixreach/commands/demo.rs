@@ -31,7 +31,7 @@ pub struct Args {
 
 /// Run `helixreach demo`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let log = Log::start();
+    let log = Log::start().quiet(super::global().quiet);
     let settings = if args.quick {
         Settings::quick(&args.rig)
     } else {

@@ -55,12 +55,6 @@ pub struct Args {
     /// Batch: seconds between checkpoints.
     #[arg(long, default_value_t = 10.0)]
     pub checkpoint_secs: f64,
-    /// Batch: worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
 /// Run `helixreach detect`.
@@ -89,30 +83,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         sweep.resume = args.resume;
         sweep.force = args.force;
         sweep.checkpoint_interval = checkpoint_interval(args.checkpoint_secs)?;
-        sweep.progress = !args.quiet;
-        let go = || {
-            run_sweep(
-                &list,
-                |r| vec![r.observations.clone()],
-                |r| {
-                    let rec = run_record(&det, r);
-                    if rec.reason == "rejected" {
-                        eprintln!("{}:{}: rejected: {}", runs.display(), r.line, rec.notes);
-                    }
-                    csv_out::fields(&rec)
-                },
-                &sweep,
-            )
-        };
+        sweep.progress = !super::global().quiet;
         let t0 = std::time::Instant::now();
-        let summary = match args.threads {
-            Some(n) => rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()?
-                .install(go)?,
-            None => go()?,
-        };
-        eprintln!(
+        let summary = run_sweep(
+            &list,
+            |r| vec![r.observations.clone()],
+            |r| {
+                let rec = run_record(&det, r);
+                if rec.reason == "rejected" {
+                    eprintln!("{}:{}: rejected: {}", runs.display(), r.line, rec.notes);
+                }
+                csv_out::fields(&rec)
+            },
+            &sweep,
+        )?;
+        status!(
             "detect: {} runs ({} computed, {} resumed) in {:.1} s -> {}",
             summary.total,
             summary.computed,
@@ -154,7 +139,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     stdout.flush()?;
     match r.outcome.s_snap {
         Some(s) => {
-            eprintln!(
+            status!(
                 "snap at s = {s:.5} ({} confidence){}",
                 r.outcome.confidence.as_str(),
                 r.outcome

@@ -73,6 +73,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .collect();
     out.write_all(ik_csv(&names, &rows)?.as_bytes())?;
     out.flush()?;
-    eprintln!("{} solutions", sols.len());
+    status!("{} solutions", sols.len());
     Ok(())
 }

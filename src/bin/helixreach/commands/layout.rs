@@ -68,12 +68,6 @@ pub struct Args {
     /// Replace an existing run in --out (once the new rays are complete).
     #[arg(long, conflicts_with = "resume")]
     pub force: bool,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
     /// Output directory.
     #[arg(long)]
     pub out: PathBuf,
@@ -115,22 +109,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         resume: args.resume,
         force: args.force,
         shard: args.shard,
-        progress: !args.quiet,
+        progress: !super::global().quiet,
     };
     let t0 = std::time::Instant::now();
-    let go = || {
-        Ok(run_layout(
-            &rig,
-            &dirs,
-            table.as_ref(),
-            &opts,
-            &control,
-            &args.out,
-        )?)
-    };
-    let report = super::args::with_threads(args.threads, go)?;
+    let report = run_layout(&rig, &dirs, table.as_ref(), &opts, &control, &args.out)?;
     let Some(rep) = report else {
-        eprintln!(
+        status!(
             "layout: shard written in {:.1} s",
             t0.elapsed().as_secs_f64()
         );
@@ -148,7 +132,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     for c in &rep.by_k {
-        eprintln!(
+        status!(
             "layout: K = {}: exact {} ({:.1} %{}), greedy {} ({:.1} %)",
             c.k,
             c.exact.covered,
@@ -163,7 +147,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     if let Some(r) = &rep.reference {
-        eprintln!(
+        status!(
             "layout: reference positions ({}): own position {}/{} ({:.1} %), union {} ({:.1} %)",
             r.positions,
             r.own,
@@ -173,7 +157,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             pct(r.union)
         );
     }
-    eprintln!(
+    status!(
         "layout: {:.1} % of rays decided without per-ray planning ({:?}); {:.1} s -> {}",
         100.0 * rep.cheap_fraction(),
         rep.decided,

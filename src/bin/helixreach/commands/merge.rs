@@ -28,7 +28,7 @@ pub struct Args {
 /// Run `helixreach merge`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     let s = helixreach::sweep::merge::merge(&a.inputs, a.key_columns, &a.out, a.force)?;
-    eprintln!(
+    status!(
         "merge: {} rows from {} shards -> {}",
         s.rows,
         s.shards,

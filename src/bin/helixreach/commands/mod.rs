@@ -1,4 +1,14 @@
-//! One module per subcommand.
+//! One module per subcommand, and the options every subcommand takes ([`Global`]).
+
+/// `eprintln!` unless `--quiet`: progress and status lines (what was written, how long it took).
+/// Errors, warnings and verdicts are printed with `eprintln!` whatever `--quiet` says.
+macro_rules! status {
+    ($($t:tt)*) => {
+        if !$crate::commands::global().quiet {
+            eprintln!($($t)*);
+        }
+    };
+}
 
 pub mod args;
 pub mod bifurcation;
@@ -43,3 +53,54 @@ impl std::fmt::Display for Verdict {
 }
 
 impl std::error::Error for Verdict {}
+
+/// Options of every subcommand, defined once (`global = true`: accepted before or after the
+/// subcommand's name).
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct Global {
+    /// Worker threads of the parallel stages (1..=1024; default: one per core). Every output is
+    /// identical for any thread count.
+    #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
+    pub threads: Option<usize>,
+    /// No progress or status lines on stderr (errors, warnings and verdicts are still printed).
+    #[arg(long, global = true)]
+    pub quiet: bool,
+}
+
+/// `--threads N`, checked against [`helixreach::limits::MAX_THREADS`].
+fn parse_threads(s: &str) -> Result<usize, String> {
+    let n: usize = s
+        .parse()
+        .map_err(|e| format!("--threads `{s}`: not a count ({e})"))?;
+    helixreach::limits::check_range("--threads", n, 1, helixreach::limits::MAX_THREADS)
+        .map_err(|e| e.to_string())
+}
+
+static GLOBAL: std::sync::OnceLock<Global> = std::sync::OnceLock::new();
+
+/// Record the global options of this run (once, before the subcommand runs).
+pub fn set_global(g: Global) {
+    let _ = GLOBAL.set(g);
+}
+
+/// The global options of this run (the defaults before [`set_global`]).
+pub fn global() -> Global {
+    GLOBAL.get().copied().unwrap_or_default()
+}
+
+/// Run `go` on a pool of `threads` worker threads (default: rayon's global pool, one per core):
+/// every parallel map of the library run from `go` — the sweep driver's workers, the study's
+/// stages, the layout's evaluation, the render — uses that pool.
+pub fn with_threads<T: Send>(
+    threads: Option<usize>,
+    go: impl FnOnce() -> anyhow::Result<T> + Send,
+) -> anyhow::Result<T> {
+    let Some(n) = threads else {
+        return go();
+    };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map_err(|e| anyhow::anyhow!("--threads {n}: cannot start the worker threads: {e}"))?
+        .install(go)
+}

@@ -176,7 +176,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for (o, bytes) in files {
         o.write_with_sidecar(&bytes, meta.as_bytes())?;
     }
-    eprintln!(
+    status!(
         "{}: s* = {}, s_reached = {} of {} (bifurcation assumed: {assumed}) ({} of {} waypoints), \
          cause {}, azimuth {}, roll {}, {} reconfigurations, {} back-offs, cost {:.4}, max joint step {:.4} rad, \
          duration {:.1} s (load, hold, unload); planned in {:.3} s",

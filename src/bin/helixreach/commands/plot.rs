@@ -184,6 +184,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     .with_context(what)?;
-    eprintln!("wrote {}", args.out.display());
+    status!("wrote {}", args.out.display());
     Ok(())
 }

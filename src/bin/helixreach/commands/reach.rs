@@ -43,12 +43,6 @@ pub struct Args {
     /// Seconds between checkpoints (to OUT.partial).
     #[arg(long, default_value_t = 10.0)]
     pub checkpoint_secs: f64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
     /// Output CSV (`-`: standard output). See `helixreach::sweep::driver` for the data-safety
     /// rules (settings record, lock, --resume/--force).
     #[arg(long)]
@@ -83,11 +77,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     sweep.force = args.force;
     sweep.checkpoint_interval = checkpoint;
     sweep.shard = args.shard;
-    sweep.progress = !args.quiet;
-    let go = || Ok(run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep)?);
+    sweep.progress = !super::global().quiet;
     let t0 = std::time::Instant::now();
-    let summary = super::args::with_threads(args.threads, go)?;
-    eprintln!(
+    let summary = run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep)?;
+    status!(
         "reach: {} directions ({} computed, {} resumed) in {:.1} s -> {}",
         summary.total,
         summary.computed,

@@ -78,7 +78,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
         gif_delay_ms: args.gif_delay_ms,
         azimuth: args.azimuth,
-        progress: true,
+        progress: !super::global().quiet,
     };
     let t0 = std::time::Instant::now();
     let sum = render_trajectory(&rig, &args.trajectory, &opts, &args.out)?;
@@ -90,7 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             None => format!("{} -", k.as_str()),
         })
         .collect();
-    eprintln!(
+    status!(
         "render: {} frames (azimuth {:.4} rad), smallest clearance over them: {}; wrote {}, {}, {}{} in {:.2} s",
         sum.frames.len(),
         (sum.azimuth * 1e4).round() / 1e4 + 0.0,

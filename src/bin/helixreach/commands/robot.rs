@@ -140,7 +140,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let d = DisabledPairs::compute(&m, args.samples, args.seed)?;
         let name = m.source().strip_prefix("builtin:").unwrap_or(m.source());
         disabled_out(&args, path).write(d.to_toml(name).as_bytes())?;
-        eprintln!(
+        status!(
             "wrote {} disabled pairs ({} samples) to {}",
             d.disabled.len(),
             d.samples,

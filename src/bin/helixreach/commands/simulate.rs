@@ -211,7 +211,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// A progress bar over s ∈ [0, s_max] on stderr (hidden when stderr is not a terminal).
 pub fn progress_bar(s_max: Real) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new((s_max * 100.0) as u64);
-    bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+    bar.set_draw_target(if super::global().quiet {
+        indicatif::ProgressDrawTarget::hidden()
+    } else {
+        indicatif::ProgressDrawTarget::stderr()
+    });
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} s = {msg} ({elapsed})")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),

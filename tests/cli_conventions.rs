@@ -1,0 +1,165 @@
+//! The conventions every subcommand shares: the global `--threads N` (same bytes for any count,
+//! bounded) and `--quiet` (nothing on stderr but errors, warnings and verdicts).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_helixreach");
+
+fn run(dir: &Path, args: &[&str]) -> Output {
+    Command::new(BIN)
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn ok(dir: &Path, args: &[&str]) -> Output {
+    let out = run(dir, args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+#[test]
+fn same_bytes_for_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The flag is global: before or after the subcommand's name.
+    for (cmd, n) in [
+        (&["reach", "--fibonacci", "6", "--quarter"][..], "6"),
+        (&["boundary", "--fibonacci", "40"][..], "40"),
+        (
+            &["bifurcation", "--fibonacci", "3", "--n-edges", "20"][..],
+            "3",
+        ),
+    ] {
+        let one = format!("{}1.csv", cmd[0]);
+        let two = format!("{}2.csv", cmd[0]);
+        let mut a: Vec<&str> = cmd.to_vec();
+        a.extend(["--threads", "1", "--out", &one]);
+        ok(d, &a);
+        let mut b: Vec<&str> = vec!["--threads", "2"];
+        b.extend(cmd);
+        b.extend(["--out", &two]);
+        ok(d, &b);
+        let x = std::fs::read(d.join(&one)).unwrap();
+        let y = std::fs::read(d.join(&two)).unwrap();
+        assert_eq!(
+            String::from_utf8_lossy(&x).lines().count(),
+            n.parse::<usize>().unwrap() + 1
+        );
+        assert!(x == y, "{}: --threads 1 and 2 differ", cmd[0]);
+    }
+}
+
+#[test]
+fn threads_out_of_range_are_refused_on_every_command() {
+    let dir = tempfile::tempdir().unwrap();
+    for n in ["0", "1025", "5000"] {
+        for cmd in [
+            &["boundary", "--fibonacci", "3", "--out", "x.csv"][..],
+            &["helix", "--kappa", "1", "--tau", "0", "--omega", "0"][..],
+        ] {
+            let mut a = cmd.to_vec();
+            a.extend(["--threads", n]);
+            let out = run(dir.path(), &a);
+            assert_eq!(out.status.code(), Some(2), "{a:?}");
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(err.contains("--threads") && err.contains("1024"), "{err}");
+        }
+    }
+    assert!(!dir.path().join("x.csv").exists());
+}
+
+#[test]
+fn quiet_prints_nothing_on_stderr() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Without --quiet the sweeps say what they wrote ...
+    let loud = ok(d, &["boundary", "--fibonacci", "5", "--out", "loud.csv"]);
+    assert!(String::from_utf8_lossy(&loud.stderr).contains("loud.csv"));
+    // ... with it, nothing (the outputs are the same).
+    for cmd in [
+        &["boundary", "--fibonacci", "5", "--out", "b.csv"][..],
+        &["reach", "--fibonacci", "3", "--quarter", "--out", "r.csv"][..],
+        &[
+            "bifurcation",
+            "--fibonacci",
+            "2",
+            "--n-edges",
+            "20",
+            "--out",
+            "f.csv",
+        ][..],
+        &[
+            "boundary",
+            "--fibonacci",
+            "5",
+            "--shard",
+            "0/2",
+            "--out",
+            "s0.csv",
+        ][..],
+        &[
+            "boundary",
+            "--fibonacci",
+            "5",
+            "--shard",
+            "1/2",
+            "--out",
+            "s1.csv",
+        ][..],
+        &["merge", "--out", "m.csv", "s0.csv", "s1.csv"][..],
+        &["ik", "--robot", "sawyer", "--pose", "0.6,0.1,0.3,0,1,0,0"][..],
+    ] {
+        let mut a = vec!["--quiet"];
+        a.extend(cmd);
+        let out = ok(d, &a);
+        assert!(
+            out.stderr.is_empty(),
+            "{a:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    assert_eq!(
+        std::fs::read(d.join("b.csv")).unwrap(),
+        std::fs::read(d.join("loud.csv")).unwrap()
+    );
+}
+
+#[test]
+fn quiet_keeps_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(
+        d,
+        &["--quiet", "boundary", "--fibonacci", "3", "--out", "b.csv"],
+    );
+    // The second run refuses to overwrite: the error is printed although --quiet.
+    let out = run(
+        d,
+        &["--quiet", "boundary", "--fibonacci", "3", "--out", "b.csv"],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("error:") && err.contains("b.csv"), "{err}");
+    // An unreadable input, the same.
+    let out = run(
+        d,
+        &[
+            "check",
+            "--quiet",
+            "--rig",
+            "sawyer-seed",
+            "--joints",
+            "nothing.csv",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("nothing.csv"), "{err}");
+}
