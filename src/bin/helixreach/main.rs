@@ -111,6 +111,7 @@ fn main() -> ExitCode {
         Err(e) => e.exit(),
     };
     commands::set_global(cli.global);
+    helixreach::robot::CollisionModel::set_announce(!cli.global.quiet);
     let result = commands::with_threads(cli.global.threads, || run(cli.command));
     match result {
         Ok(()) => ExitCode::SUCCESS,

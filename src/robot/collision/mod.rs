@@ -42,6 +42,9 @@ use parry3d_f64::query;
 use std::ops::ControlFlow;
 use walk::{AllHits, FirstHit, Nearest, Visit};
 
+/// Whether [`CollisionModel::announce`] prints.
+static ANNOUNCE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
+
 /// The rod as thin capsules between consecutive nodes (robot root frame, clamp end first).
 #[derive(Clone, Copy, Debug)]
 pub struct RodGeometry<'a> {
@@ -265,9 +268,19 @@ impl CollisionModel {
         self.bodies.len()
     }
 
+    /// Whether [`CollisionModel::announce`] prints (default true; a quiet command turns it off
+    /// for the whole process).
+    pub fn set_announce(on: bool) {
+        ANNOUNCE.store(on, std::sync::atomic::Ordering::Relaxed);
+    }
+
     /// Print [`CollisionModel::summary`] on stderr, once per process for each distinct text
-    /// (a sweep that builds the same model many times says it once).
+    /// (a sweep that builds the same model many times says it once), unless turned off by
+    /// [`CollisionModel::set_announce`].
     pub fn announce(&self) {
+        if !ANNOUNCE.load(std::sync::atomic::Ordering::Relaxed) {
+            return;
+        }
         static SAID: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
         let s = self.summary();
         let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
