@@ -23,6 +23,7 @@
 //! | search nodes per ray (rig `planner.max_search_nodes`) | [`MAX_SEARCH_NODES`] = 9,000,000 | ≈ 1 GiB |
 //! | collision mesh files ([`crate::robot::mesh`]) | [`MAX_MESH_FILE_BYTES`] = 64 MiB, [`MAX_MESH_TRIANGLES`] = 1,000,000 triangles | bounded memory |
 //! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |
+//! | distance along a ray (`--s-max` of `boundary`, `check`, `simulate`) | ≤ [`MAX_S`] = 1e4 | bounds every scan over s |
 //! | worker threads (`--threads`) | 1 ≤ n ≤ [`MAX_THREADS`] = 1,024 | one OS thread each |
 //! | collision sampling of a joint step (rig `planner.segment_check_step`) | ≥ [`MIN_SEGMENT_CHECK_STEP`] = 0.001 rad | samples ∝ step / segment_check_step; `check` samples a step with at most [`MAX_SEGMENT_SAMPLES`] = 10,000 configurations (a step that needs more is a jump) |
 //! | continuum scan step (`boundary --step`) | ≥ [`MIN_CONTINUUM_STEP`] = 1e-4 | ≈ 0.2 s per direction at the limit |
@@ -73,6 +74,11 @@ pub const MAX_FRAMES: usize = 10_000;
 pub const MAX_SHARDS: usize = 100_000;
 /// Longest checkpoint interval, seconds.
 pub const MAX_CHECKPOINT_SECS: f64 = 86_400.0;
+
+/// Largest `s_max`, the distance along a ray a command scans, loads or checks to (`boundary`,
+/// `check`, `simulate`, the DER statics): 50× the farthest s* of the half sphere (≈ 200), and
+/// it bounds every scan over s (`s_max / step` points).
+pub const MAX_S: f64 = 1e4;
 
 /// Most worker threads (`--threads`).
 pub const MAX_THREADS: usize = 1_024;

@@ -1073,6 +1073,157 @@ fn resume_refuses_rows_of_a_changed_urdf_or_pair_list() {
     assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
 }
 
+/// A binary STL of a cube of side `a` centred at the origin (12 triangles).
+fn cube_stl(a: f32) -> Vec<u8> {
+    let h = 0.5 * a;
+    let v = |i: usize| {
+        [
+            if i & 4 == 0 { -h } else { h },
+            if i & 2 == 0 { -h } else { h },
+            if i & 1 == 0 { -h } else { h },
+        ]
+    };
+    let faces = [
+        (0, 1, 3),
+        (0, 3, 2),
+        (4, 6, 7),
+        (4, 7, 5),
+        (0, 4, 5),
+        (0, 5, 1),
+        (2, 3, 7),
+        (2, 7, 6),
+        (0, 2, 6),
+        (0, 6, 4),
+        (1, 5, 7),
+        (1, 7, 3),
+    ];
+    let mut b = vec![0u8; 80];
+    b.extend_from_slice(&(faces.len() as u32).to_le_bytes());
+    for (i, j, k) in faces {
+        b.extend(std::iter::repeat_n(0u8, 12));
+        for p in [v(i), v(j), v(k)] {
+            for c in p {
+                b.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        b.extend_from_slice(&[0, 0]);
+    }
+    b
+}
+
+/// Every input file that changes a result is in the settings digest: a collision mesh, the
+/// rig's SRDF and the `--boundary` table, each changed after a finished `reach`, make
+/// `--resume` refuse (naming the setting and the file) and leave the output as it was.
+#[test]
+fn resume_refuses_rows_of_a_changed_mesh_srdf_or_boundary_table() {
+    let (dir, rig) = rig_with_copied_robot();
+    let d = dir.path();
+    // A 1 cm cube inside the pedestal's cylinder (adds no contact), as a mesh, and an SRDF.
+    std::fs::write(d.join("cube.stl"), cube_stl(0.01)).unwrap();
+    let urdf = d.join("sawyer.urdf");
+    let text = std::fs::read_to_string(&urdf).unwrap();
+    let cyl = r#"<geometry><cylinder radius="0.18" length="0.62"/></geometry>
+    </collision>"#;
+    assert!(text.contains(cyl));
+    let with_mesh = text.replacen(
+        cyl,
+        &format!(
+            r#"{cyl}
+    <collision>
+      <origin xyz="-0.02 0 -0.29" rpy="0 0 0"/>
+      <geometry><mesh filename="cube.stl"/></geometry>
+    </collision>"#
+        ),
+        1,
+    );
+    std::fs::write(&urdf, with_mesh).unwrap();
+    let srdf = d.join("sawyer.srdf");
+    let srdf_text = r#"<?xml version="1.0"?>
+<robot name="sawyer">
+  <disable_collisions link1="pedestal" link2="controller_box" reason="Adjacent"/>
+</robot>
+"#;
+    std::fs::write(&srdf, srdf_text).unwrap();
+    let rig_text = std::fs::read_to_string(&rig).unwrap().replacen(
+        "urdf = \"sawyer.urdf\"",
+        "urdf = \"sawyer.urdf\"\nsrdf = \"sawyer.srdf\"",
+        1,
+    );
+    std::fs::write(&rig, rig_text).unwrap();
+    let b = d.join("b.csv");
+    let o = cli(&[
+        "boundary",
+        "--fibonacci",
+        "2",
+        "--quarter",
+        "--quiet",
+        "--out",
+        s(&b),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.join("r.csv");
+    let reach = |extra: &[&str]| {
+        let mut a = vec![
+            "reach",
+            "--rig",
+            s(&rig),
+            "--fibonacci",
+            "2",
+            "--quarter",
+            "--boundary",
+            s(&b),
+            "--quiet",
+            "--out",
+            s(&out),
+        ];
+        a.extend_from_slice(extra);
+        cli(&a)
+    };
+    let o = reach(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = std::fs::read_to_string(&out).unwrap();
+    let record = std::fs::read_to_string(helixreach::io::sidecar_path(&out)).unwrap();
+    for f in ["cube.stl=", "sawyer.srdf="] {
+        assert!(record.contains(f), "{f} not in {record}");
+    }
+    // Control: unchanged files resume.
+    let o = reach(&["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Each file changed in turn (and restored after).
+    let refused = |file: &Path, changed: Vec<u8>, setting: &str, name: &str| {
+        let original = std::fs::read(file).unwrap();
+        assert_ne!(changed, original);
+        std::fs::write(file, changed).unwrap();
+        let o = reach(&["--resume"]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert!(e.contains(setting) && e.contains(name), "{e}");
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), rows);
+        std::fs::write(file, original).unwrap();
+    };
+    refused(
+        &d.join("cube.stl"),
+        cube_stl(0.011),
+        "robot_files",
+        "cube.stl",
+    );
+    refused(
+        &srdf,
+        srdf_text.replace("Adjacent", "Never").into_bytes(),
+        "robot_files",
+        "sawyer.srdf",
+    );
+    let table = std::fs::read_to_string(&b).unwrap();
+    let last = table.lines().last().unwrap().to_string();
+    let f: Vec<&str> = last.split(',').collect();
+    let nudged = format!("{}", f[3].parse::<f64>().unwrap() * 1.01);
+    let edited = table.replace(&last, &last.replacen(f[3], &nudged, 1));
+    refused(&b, edited.into_bytes(), "boundary", "table");
+    // Restored, everything resumes again.
+    let o = reach(&["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 // ---------------------------------------------------------------------------------------------
 // A class never overstates the plan
 // ---------------------------------------------------------------------------------------------

@@ -745,7 +745,48 @@ fn low_severity_inputs_name_file_field_and_value() {
             r#"<link name="tip2"/><joint name="j1" type="fixed"><parent link="tip"/><child link="tip2"/></joint></robot>"#,
         ),
     );
+    // A seed-like joint file, and timed joint-name CSVs whose time goes back or is NaN.
+    let q = "0,-1,0,1.5,0,-0.5,0";
+    w("j.txt", "0 -1 0 1.5 0 -0.5 0\n");
+    let named = "t,right_j0,right_j1,right_j2,right_j3,right_j4,right_j5,right_j6\n";
+    w("back.csv", &format!("{named}0.5,{q}\n0.25,{q}\n"));
+    w("nan_t.csv", &format!("{named}0,{q}\nNaN,{q}\n"));
     let cases: Vec<(Vec<&str>, Vec<&str>)> = vec![
+        // s_max is bounded where a scan over s would otherwise run for ever.
+        (
+            vec![
+                "check",
+                "--joints",
+                "j.txt",
+                "--direction",
+                "1,1,1",
+                "--s-max",
+                "1e308",
+            ],
+            vec!["s_max", "1e308", "1e4"],
+        ),
+        // A time step longer than the whole ray is refused naming both.
+        (
+            vec![
+                "simulate",
+                "--direction",
+                "1,1,1",
+                "--dt",
+                "1e3",
+                "--out",
+                "dt.csv",
+            ],
+            vec!["dt = 1000 s", "s_max = 40"],
+        ),
+        // Time going backwards, or not a number, names the file, line and column.
+        (
+            vec!["check", "--joints", "back.csv"],
+            vec!["back.csv:3", "t:", "before the previous row's 0.5"],
+        ),
+        (
+            vec!["check", "--joints", "nan_t.csv"],
+            vec!["nan_t.csv:3", "t:", "`NaN` is not a finite value"],
+        ),
         (
             vec![
                 "reach",
@@ -836,12 +877,16 @@ fn low_severity_inputs_name_file_field_and_value() {
             ],
             vec!["youngs_modulus = 1e308", "bending stiffness"],
         ),
-        // simulate checks its output before computing (its directory cannot be a file).
+        // simulate checks its output before anything else: with an output whose directory
+        // cannot be made (a file is in its place) and an --n-edges past its bound, the output
+        // is the error (the parameters, then the simulation, come after it).
         (
             vec![
                 "simulate",
                 "--direction",
                 "1,1,1",
+                "--n-edges",
+                "100000000",
                 "--out",
                 "speed.toml/s.csv",
             ],
@@ -855,6 +900,9 @@ fn low_severity_inputs_name_file_field_and_value() {
         assert!(!e.contains("panicked"), "{args:?}: {e}");
         for n in needles {
             assert!(e.contains(n), "{args:?}: `{n}` not in {e}");
+        }
+        if args.contains(&"speed.toml/s.csv") {
+            assert!(!e.contains("n-edges"), "output not checked first: {e}");
         }
     }
     assert!(!d.join("a.csv").exists());

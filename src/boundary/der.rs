@@ -358,6 +358,16 @@ impl DerBoundaryParams {
             return Err(Error::invalid("tol_rel", self.tol_rel, "must be < 0.5"));
         }
         require_positive("s_max", self.s_max)?;
+        if self.s_max > crate::limits::MAX_S {
+            return Err(Error::invalid(
+                "s_max",
+                self.s_max,
+                format!(
+                    "must be <= {:e} (helixreach::limits::MAX_S)",
+                    crate::limits::MAX_S
+                ),
+            ));
+        }
         require_positive("stretch", self.stretch)?;
         Ok(())
     }

@@ -663,8 +663,15 @@ pub fn check_trajectory(
             reason: format!("{} joints per row, the robot has {dof}", traj.dof),
         });
     }
-    if !(opt.s_max.is_finite() && opt.s_max > 0.0) {
-        return Err(Error::invalid("s_max", opt.s_max, "must be finite and > 0"));
+    if !(opt.s_max.is_finite() && opt.s_max > 0.0 && opt.s_max <= crate::limits::MAX_S) {
+        return Err(Error::invalid(
+            "s_max",
+            opt.s_max,
+            format!(
+                "must be in (0, {:e}] (helixreach::limits::MAX_S)",
+                crate::limits::MAX_S
+            ),
+        ));
     }
     crate::error::require_finite("azimuth", opt.azimuth)?;
     if opt.held_edges > MAX_HELD_EDGES {

@@ -167,11 +167,12 @@ impl ContinuumParams {
                 format!("must be in [{min_step:e}, 0.5] (helixreach::limits)"),
             ));
         }
-        if !(self.s_max.is_finite() && self.s_max > 0.0) {
+        let max_s = crate::limits::MAX_S;
+        if !(self.s_max.is_finite() && self.s_max > 0.0 && self.s_max <= max_s) {
             return Err(Error::invalid(
                 "s_max",
                 self.s_max,
-                "must be finite and > 0",
+                format!("must be in (0, {max_s:e}] (helixreach::limits::MAX_S)"),
             ));
         }
         Ok(())

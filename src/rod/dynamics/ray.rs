@@ -225,8 +225,15 @@ impl SimParams {
             ));
         }
         require_positive("s_max", self.s_max)?;
-        if self.s_max > 1e4 {
-            return Err(Error::invalid("s_max", self.s_max, "must be <= 1e4"));
+        if self.s_max > crate::limits::MAX_S {
+            return Err(Error::invalid(
+                "s_max",
+                self.s_max,
+                format!(
+                    "must be <= {:e} (helixreach::limits::MAX_S)",
+                    crate::limits::MAX_S
+                ),
+            ));
         }
         require_positive("record_ds", self.record_ds)?;
         self.detect.validate()?;
