@@ -13,8 +13,7 @@
 //! direction (0 = none; the default), which takes minutes per direction at n = 100, with
 //! mass-proportional damping `--damping Z` (1/s, default 2; the dynamics refuse to unload without
 //! damping). Without damping the post-snap rod rings: it leaves the far branch early and its helix error stays
-//! above the threshold long after (the dynamic return then measures the ringing; README, issue
-//! 12); ζ = 2/s follows the static far branch.
+//! above the threshold long after (the dynamic return then measures the ringing); ζ = 2/s follows the static far branch.
 
 use helixreach::bifurcation::{classify, BifurcationParams};
 use helixreach::boundary::der::DerBoundaryParams;

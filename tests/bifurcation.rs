@@ -1,7 +1,7 @@
 //! Bifurcation type at s* (issue 12), checked against
 //! - the seed's labelled DER runs (`bifurcation_examples.csv` of `tests/data/seed/`, relative to
 //!   the crate root): the
-//!   type of a subset spanning both types (all 42 at n = 100 are in the README, from
+//!   type of a subset spanning both types (all 42 at n = 100 are in docs/RESULTS.md, from
 //!   `examples/bifurcation_report.rs`);
 //! - the seed's dynamic return points (static s_return within the measured accuracy);
 //! - the dynamics: a damped load–hold–unload run follows the static far branch (energy) and
@@ -100,9 +100,9 @@ fn labelled_values() -> Vec<(Direction, f64, f64)> {
 
 /// Issue 12 item 1: the static return against the seed's dynamic returns (DER n = 100, v = 0.1).
 /// At n = 100 all 38 labelled subcritical rays lie 0.40–1.24 % *below* the seed's values
-/// (README; a lightly damped run leaves the far branch a little before its fold, see the
-/// dynamics test below). The n-convergence of the static return (n = 30/50/100/200 in the
-/// README) puts n = 30 at most 0.8 % below n = 100 on these rays, and the return is resolved to
+/// (a lightly damped run leaves the far branch a little before its fold, see the
+/// dynamics test below). The n-convergence of the static return (n = 30/50/100/200,
+/// `examples/bifurcation_report.rs`) puts n = 30 at most 0.8 % below n = 100 on these rays, and the return is resolved to
 /// `2·return_tol·s*` ≈ 0.2 %: so at n = 30 the static return must lie below the seed's value by
 /// less than 1.24 + 0.8 + 0.2 ≈ 2.3 % (2.5 % asserted), and above it never.
 #[test]
@@ -142,8 +142,7 @@ fn static_return_agrees_with_the_seeds_labelled_returns() {
 /// damping the post-snap rod rings (implicit Euler barely damps the slow modes), its elastic
 /// energy leaves the far branch early (≈ 6.2 at v = 0.2: the vibration throws it out of the
 /// narrowing basin before the fold), and the helix error then stays above the threshold until
-/// the ringing has decayed — the e-threshold "return" measured the decay, not the return
-/// (README). With damping (ζ = 2/s) the run
+/// the ringing has decayed — the e-threshold "return" measured the decay, not the return. With damping (ζ = 2/s) the run
 /// - follows the *static* far branch: its elastic energy agrees with the static branch's
 ///   (found independently by relaxation + Newton continuation) within 1 % at every unloading
 ///   sample between the turn and 1.01·s_return (measured 0.33 %), and

@@ -50,7 +50,7 @@
 //! every answer is the same from k = 16 to 256 (52 testable; 45 without dense levels). On 200
 //! quarter-sphere directions (margin 0.1, `examples/coverage_convergence.rs`) the testable
 //! fraction is 54.5 / 76.5 / 76.5 / 78.0 / 78.0 % at k = 8 (base) / 16 / 32 / 64 / 128:
-//! converged at 64; the default 32 is 1.5 points short (README). Cost: a ray testable from the
+//! converged at 64; the default 32 is 1.5 points short. Cost: a ray testable from the
 //! base rungs costs nothing more; a ray the levels run for pays every level (≈ 0.4 s at k = 16,
 //! 1 s at 32, 5 s at 128 CPU for a ray blocked near its end, release, under load).
 //!
@@ -115,7 +115,7 @@
 //! re-checked, and becomes a `reconfigure` piece of the path (s constant). The ladder then
 //! restarts from that configuration. Reconfiguration only acts where the plan without it stops,
 //! so allowing it never makes a ray's class worse (every one of 500 quarter-sphere rays, both
-//! roll modes, README). The farthest s is monotone up to the pointwise gate's bound (less
+//! roll modes). The farthest s is monotone up to the pointwise gate's bound (less
 //! than one waypoint interval): in roll `motor` 8 of the 2,000 quarter-sphere rays (all partial)
 //! reach up to 0.029 less with reconfiguration than without. All 8 are the gate:
 //! with reconfiguration the first motor plan stops at a discontinuity where the gate skips every

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Output directory for figures, CSVs and the report (`--out figures` regenerates the
-    /// figures committed for the README).
+    /// figures committed in `figures/`).
     #[arg(long, default_value = "helixreach-demo")]
     pub out: PathBuf,
     /// A small, fast run (about a minute): fewer directions, coarser rods.
