@@ -22,7 +22,7 @@ pub struct Arm {
 
 /// The vendored arms.
 #[allow(dead_code)]
-pub const ARMS: [Arm; 6] = [
+pub const ARMS: [Arm; 7] = [
     Arm {
         name: "ur3",
         urdf: "robots/ur_description/urdf/ur3_robot.urdf",
@@ -65,6 +65,13 @@ pub const ARMS: [Arm; 6] = [
         dof: 6,
         elements: 11,
     },
+    Arm {
+        name: "baxter_right",
+        urdf: "robots/baxter_description/urdf/baxter.urdf",
+        tip: "right_gripper",
+        dof: 7,
+        elements: 41,
+    },
 ];
 
 fn copy_tree(src: &Path, dst: &Path) {
@@ -92,7 +99,7 @@ fn copy_tree(src: &Path, dst: &Path) {
 pub fn package_dir() -> PathBuf {
     static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
     DIR.get_or_init(|| {
-        let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("robots-v1");
+        let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("robots-v2");
         let done = root.join("example-robot-data/.unpacked");
         if !done.is_file() {
             let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
