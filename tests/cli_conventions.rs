@@ -155,11 +155,37 @@ fn quiet_keeps_errors() {
             "--quiet",
             "--rig",
             "sawyer-seed",
-            "--joints",
+            "--trajectory",
             "nothing.csv",
         ],
     );
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("nothing.csv"), "{err}");
+}
+
+#[test]
+fn a_file_of_joints_is_trajectory_and_joint_values_are_joints() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("j.txt"),
+        "0 -1 0 1.5 0 -0.5 0\n0 -1 0 1.5 0 -0.5 0.01\n",
+    )
+    .unwrap();
+    let new = ok(d, &["check", "--trajectory", "j.txt", "--report-only"]);
+    // The earlier spelling still reads the file (hidden from --help), with the same report.
+    let old = ok(d, &["check", "--joints", "j.txt", "--report-only"]);
+    assert_eq!(new.stdout, old.stdout);
+    let v: serde_json::Value = serde_json::from_slice(&new.stdout).unwrap();
+    assert_eq!(v["rows"], 2, "{v}");
+    let help = String::from_utf8(ok(d, &["check", "--help"]).stdout).unwrap();
+    assert!(
+        help.contains("--trajectory <FILE>") && !help.contains("--joints"),
+        "{help}"
+    );
+    let help = String::from_utf8(ok(d, &["render", "--help"]).stdout).unwrap();
+    assert!(help.contains("--trajectory"), "{help}");
+    let help = String::from_utf8(ok(d, &["fk", "--help"]).stdout).unwrap();
+    assert!(help.contains("--joints"), "{help}");
 }

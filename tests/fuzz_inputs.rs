@@ -692,7 +692,7 @@ fn check_of_an_absurd_joint_step_finishes() {
         "0 -1 0 1.5 0 -0.5 0\n0 -1 0 1.5 0 -0.5 1e308\n",
     )
     .unwrap();
-    let o = cli_30s(dir.path(), &["check", "--joints", "j.txt"]);
+    let o = cli_30s(dir.path(), &["check", "--trajectory", "j.txt"]);
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(!e.contains("panicked"), "{e}");
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap_or_default();

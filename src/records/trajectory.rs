@@ -6,7 +6,7 @@
 //!   base frame, the quaternion scalar first; numbers by [`fmt_real`](super::fmt_real)). Read back by
 //!   [`read_trajectory`](super::read_trajectory) (the figure),
 //!   `plot::render::input::read_trajectory` (the rendering) and
-//!   [`crate::planning::check::JointFile`] (`check --joints`), all by the column names
+//!   [`crate::planning::check::JointFile`] (`check --trajectory`), all by the column names
 //!   [`joint_column`], [`MOTOR_COLUMN`] and [`POSE_COLUMNS`].
 //! - JSON / YAML: [`JointTrajectoryMsg`], exactly ROS 2 `trajectory_msgs/msg/JointTrajectory`
 //!   (fields in the message's order; `time_from_start {sec, nanosec}`; positions, velocities,
