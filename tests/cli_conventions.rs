@@ -189,3 +189,23 @@ fn a_file_of_joints_is_trajectory_and_joint_values_are_joints() {
     let help = String::from_utf8(ok(d, &["fk", "--help"]).stdout).unwrap();
     assert!(help.contains("--joints"), "{help}");
 }
+
+#[test]
+fn version_names_the_commit() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(dir.path(), &["--version"]);
+    let v = String::from_utf8(out.stdout).unwrap();
+    // The reference: git itself, on the checkout the test was built from.
+    let git = Command::new("git")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8(o.stdout).unwrap().trim().to_string())
+        .unwrap_or_else(|| "unknown".into());
+    assert_eq!(
+        v,
+        format!("helixreach {} (commit {git})\n", env!("CARGO_PKG_VERSION"))
+    );
+}
