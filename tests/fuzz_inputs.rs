@@ -756,7 +756,7 @@ fn low_severity_inputs_name_file_field_and_value() {
         (
             vec![
                 "check",
-                "--joints",
+                "--trajectory",
                 "j.txt",
                 "--direction",
                 "1,1,1",
@@ -780,11 +780,11 @@ fn low_severity_inputs_name_file_field_and_value() {
         ),
         // Time going backwards, or not a number, names the file, line and column.
         (
-            vec!["check", "--joints", "back.csv"],
+            vec!["check", "--trajectory", "back.csv"],
             vec!["back.csv:3", "t:", "before the previous row's 0.5"],
         ),
         (
-            vec!["check", "--joints", "nan_t.csv"],
+            vec!["check", "--trajectory", "nan_t.csv"],
             vec!["nan_t.csv:3", "t:", "`NaN` is not a finite value"],
         ),
         (
