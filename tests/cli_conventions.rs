@@ -209,3 +209,51 @@ fn version_names_the_commit() {
         format!("helixreach {} (commit {git})\n", env!("CARGO_PKG_VERSION"))
     );
 }
+
+/// One rule for `--margin` on every command that takes it: 0 ≤ M ≤ 1, the same message.
+#[test]
+fn one_margin_rule_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cmds: [&[&str]; 3] = [
+        &["reach", "--fibonacci", "2", "--out", "r.csv"],
+        &[
+            "layout",
+            "--fibonacci",
+            "2",
+            "--spacing",
+            "0.2",
+            "--out",
+            "lay",
+        ],
+        &["plan", "--direction", "1,0,0", "--out", "p.csv"],
+    ];
+    for cmd in cmds {
+        for bad in ["-0.1", "1.5", "NaN", "x"] {
+            let mut a = vec!["--quiet"];
+            a.extend(cmd);
+            a.extend(["--margin", bad]);
+            let o = run(d, &a);
+            assert_eq!(o.status.code(), Some(2), "{a:?}");
+            let e = String::from_utf8_lossy(&o.stderr);
+            assert!(e.contains("--margin"), "{a:?}: {e}");
+            if bad != "x" {
+                assert!(e.contains("must lie in [0, 1]"), "{a:?}: {e}");
+            }
+        }
+    }
+    // 0 (drive exactly to the boundary) is a margin for reach and layout alike, and recorded.
+    for cmd in &cmds[..2] {
+        let mut a = vec!["--quiet"];
+        a.extend(*cmd);
+        a.extend(["--margin", "0"]);
+        ok(d, &a);
+    }
+    for meta in ["r.csv.meta.json", "lay/rays.csv.meta.json"] {
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.join(meta)).unwrap()).unwrap();
+        let m = &v["settings"]["margin"];
+        assert_eq!(m, "0", "{meta}: {v}");
+    }
+    assert!(!d.join("p.csv").exists());
+}
