@@ -64,10 +64,12 @@ def main():
         fail(f"{len(arm.points)} arm / {len(motor.points)} motor points, CSV has {len(rows)} rows")
     worst = 0.0
     for k, row in enumerate(rows):
+        # The CSV names its joint columns by the URDF joints (the earlier header: q0..).
+        names = meta["joint_names"] if meta["joint_names"][0] in row else [f"q{j}" for j in range(dof)]
         cols = {
-            "positions": [f"q{j}" for j in range(dof)],
-            "velocities": [f"v_q{j}" for j in range(dof)],
-            "accelerations": [f"a_q{j}" for j in range(dof)],
+            "positions": list(names),
+            "velocities": [f"v_{n}" for n in names],
+            "accelerations": [f"a_{n}" for n in names],
         }
         for msg, names in ((arm, None), (motor, "motor")):
             p = msg.points[k]

@@ -41,7 +41,7 @@ def write_outputs(binary, d):
         f.write("dir_kappa,dir_tau,dir_omega,s_measured\n1,0,0,6.3\n0.6,0.8,0,7.1\n")
     run(binary, "compare", "--measured", p("measured.csv"), "--method", "continuum",
         "--out", p("compare.csv"))
-    run(binary, "check", "--joints", p("trajectory.csv"), "--report-only", "--out", p("check.csv"))
+    run(binary, "check", "--trajectory", p("trajectory.csv"), "--report-only", "--out", p("check.csv"))
 
 
 def check(path):

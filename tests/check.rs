@@ -310,7 +310,7 @@ fn cli_end_to_end_on_a_seed_trajectory() {
         "check",
         "--rig",
         "sawyer-seed",
-        "--joints",
+        "--trajectory",
         joints.to_str().unwrap(),
         "--direction",
         &dirn,
@@ -389,7 +389,7 @@ fn cli_bad_input_exits_2_with_file_line_and_value() {
         ),
     ];
     for (file, clamp, wants) in cases {
-        let mut args = vec!["check", "--rig", "sawyer-seed", "--joints", &file];
+        let mut args = vec!["check", "--rig", "sawyer-seed", "--trajectory", &file];
         if let Some(c) = clamp {
             args.extend(["--clamp", c]);
         }
@@ -404,7 +404,7 @@ fn cli_bad_input_exits_2_with_file_line_and_value() {
     // A file that runs but fails the check (here: a joint past its limit): the gate's exit
     // code 64 + 1, the report on stdout all the same.
     let over = write("over.txt", "0 -1 0 1.5 0 -0.5 9\n");
-    let out = cli(&["check", "--joints", &over]);
+    let out = cli(&["check", "--trajectory", &over]);
     assert_eq!(out.status.code(), Some(65));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["limit_violations"], 1);

@@ -64,7 +64,7 @@ fn code(dir: &Path, name: &str, text: &str, extra: &[&str]) -> (i32, serde_json:
         "check",
         "--rig",
         "sawyer-seed",
-        "--joints",
+        "--trajectory",
         p.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);

@@ -155,11 +155,105 @@ fn quiet_keeps_errors() {
             "--quiet",
             "--rig",
             "sawyer-seed",
-            "--joints",
+            "--trajectory",
             "nothing.csv",
         ],
     );
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("nothing.csv"), "{err}");
+}
+
+#[test]
+fn a_file_of_joints_is_trajectory_and_joint_values_are_joints() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("j.txt"),
+        "0 -1 0 1.5 0 -0.5 0\n0 -1 0 1.5 0 -0.5 0.01\n",
+    )
+    .unwrap();
+    let new = ok(d, &["check", "--trajectory", "j.txt", "--report-only"]);
+    // The earlier spelling still reads the file (hidden from --help), with the same report.
+    let old = ok(d, &["check", "--joints", "j.txt", "--report-only"]);
+    assert_eq!(new.stdout, old.stdout);
+    let v: serde_json::Value = serde_json::from_slice(&new.stdout).unwrap();
+    assert_eq!(v["rows"], 2, "{v}");
+    let help = String::from_utf8(ok(d, &["check", "--help"]).stdout).unwrap();
+    assert!(
+        help.contains("--trajectory <FILE>") && !help.contains("--joints"),
+        "{help}"
+    );
+    let help = String::from_utf8(ok(d, &["render", "--help"]).stdout).unwrap();
+    assert!(help.contains("--trajectory"), "{help}");
+    let help = String::from_utf8(ok(d, &["fk", "--help"]).stdout).unwrap();
+    assert!(help.contains("--joints"), "{help}");
+}
+
+#[test]
+fn version_names_the_commit() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(dir.path(), &["--version"]);
+    let v = String::from_utf8(out.stdout).unwrap();
+    // The reference: git itself, on the checkout the test was built from.
+    let git = Command::new("git")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8(o.stdout).unwrap().trim().to_string())
+        .unwrap_or_else(|| "unknown".into());
+    assert_eq!(
+        v,
+        format!("helixreach {} (commit {git})\n", env!("CARGO_PKG_VERSION"))
+    );
+}
+
+/// One rule for `--margin` on every command that takes it: 0 ≤ M ≤ 1, the same message.
+#[test]
+fn one_margin_rule_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cmds: [&[&str]; 3] = [
+        &["reach", "--fibonacci", "2", "--out", "r.csv"],
+        &[
+            "layout",
+            "--fibonacci",
+            "2",
+            "--spacing",
+            "0.2",
+            "--out",
+            "lay",
+        ],
+        &["plan", "--direction", "1,0,0", "--out", "p.csv"],
+    ];
+    for cmd in cmds {
+        for bad in ["-0.1", "1.5", "NaN", "x"] {
+            let mut a = vec!["--quiet"];
+            a.extend(cmd);
+            a.extend(["--margin", bad]);
+            let o = run(d, &a);
+            assert_eq!(o.status.code(), Some(2), "{a:?}");
+            let e = String::from_utf8_lossy(&o.stderr);
+            assert!(e.contains("--margin"), "{a:?}: {e}");
+            if bad != "x" {
+                assert!(e.contains("must lie in [0, 1]"), "{a:?}: {e}");
+            }
+        }
+    }
+    // 0 (drive exactly to the boundary) is a margin for reach and layout alike, and recorded.
+    for cmd in &cmds[..2] {
+        let mut a = vec!["--quiet"];
+        a.extend(*cmd);
+        a.extend(["--margin", "0"]);
+        ok(d, &a);
+    }
+    for meta in ["r.csv.meta.json", "lay/rays.csv.meta.json"] {
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.join(meta)).unwrap()).unwrap();
+        let m = &v["settings"]["margin"];
+        assert_eq!(m, "0", "{meta}: {v}");
+    }
+    assert!(!d.join("p.csv").exists());
 }

@@ -692,7 +692,7 @@ fn check_of_an_absurd_joint_step_finishes() {
         "0 -1 0 1.5 0 -0.5 0\n0 -1 0 1.5 0 -0.5 1e308\n",
     )
     .unwrap();
-    let o = cli_30s(dir.path(), &["check", "--joints", "j.txt"]);
+    let o = cli_30s(dir.path(), &["check", "--trajectory", "j.txt"]);
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(!e.contains("panicked"), "{e}");
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap_or_default();
@@ -756,7 +756,7 @@ fn low_severity_inputs_name_file_field_and_value() {
         (
             vec![
                 "check",
-                "--joints",
+                "--trajectory",
                 "j.txt",
                 "--direction",
                 "1,1,1",
@@ -780,11 +780,11 @@ fn low_severity_inputs_name_file_field_and_value() {
         ),
         // Time going backwards, or not a number, names the file, line and column.
         (
-            vec!["check", "--joints", "back.csv"],
+            vec!["check", "--trajectory", "back.csv"],
             vec!["back.csv:3", "t:", "before the previous row's 0.5"],
         ),
         (
-            vec!["check", "--joints", "nan_t.csv"],
+            vec!["check", "--trajectory", "nan_t.csv"],
             vec!["nan_t.csv:3", "t:", "`NaN` is not a finite value"],
         ),
         (

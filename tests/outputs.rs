@@ -272,7 +272,14 @@ fn every_command_writes_fifos_and_devices_in_place() {
         header,
     );
     survives_fifo_and_device(
-        &["check", "--joints", &traj, "--report-only", "--out", "OUT"],
+        &[
+            "check",
+            "--trajectory",
+            &traj,
+            "--report-only",
+            "--out",
+            "OUT",
+        ],
         "",
     );
     let mut merge = vec!["merge", "--out", "OUT"];
@@ -352,7 +359,7 @@ fn commands_never_overwrite_inputs_finished_results_or_locked_paths() {
     let traj = std::fs::read(&i.trajectory).unwrap();
     let o = run(&[
         "check",
-        "--joints",
+        "--trajectory",
         s(&i.trajectory),
         "--out",
         s(&i.trajectory),

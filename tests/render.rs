@@ -439,6 +439,33 @@ fn bad_trajectories_fail_naming_file_line_and_field() {
         e.contains("six.csv") && e.contains("6 joint columns") && e.contains("7 joints"),
         "{e}"
     );
+    // Another robot's joint names: refused, not read by position.
+    let p = dir.path().join("panda.csv");
+    let panda: Vec<String> = (1..=7).map(|j| format!("panda_joint{j}")).collect();
+    std::fs::write(
+        &p,
+        format!(
+            "t,{},motor,s,kappa,tau,omega\n0,0,0,0,0,0,0,0,0,0,0,0,0\n",
+            panda.join(",")
+        ),
+    )
+    .unwrap();
+    let e = read_trajectory(&p, &names, "sawyer")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("panda.csv") && e.contains("j0,j1") && e.contains("panda_joint1"),
+        "{e}"
+    );
+    // The robot's joint names, in any order: read by name.
+    let p = dir.path().join("named.csv");
+    std::fs::write(
+        &p,
+        "t,j6,j5,j4,j3,j2,j1,j0,motor,s,kappa,tau,omega\n0,6,5,4,3,2,1,0,0,0,0,0,0\n",
+    )
+    .unwrap();
+    let rows = read_trajectory(&p, &names, "sawyer").unwrap();
+    assert_eq!(rows[0].q, [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
     // A NaN joint on the second data row (line 3).
     let p = dir.path().join("nan.csv");
     std::fs::write(

@@ -66,7 +66,8 @@ pub struct LayoutOptions {
     pub headings: usize,
     /// Number of placements K (1 ..= [`MAX_PLACEMENTS`]).
     pub placements: usize,
-    /// Overrides the rig's planner margin past the boundary.
+    /// Overrides the rig's planner margin past the boundary
+    /// ([`MARGIN_RULE`](crate::planning::rig::MARGIN_RULE)).
     pub margin: Option<Real>,
     /// Roll mode (default: the rig's).
     pub roll: Option<RollMode>,
@@ -326,11 +327,11 @@ pub fn run(
     }
     let mut rig = rig.clone();
     if let Some(m) = opts.margin {
-        if !(m.is_finite() && m > 0.0 && m <= 1.0) {
+        if !crate::planning::rig::margin_ok(m) {
             return Err(Error::invalid(
                 "margin",
                 m,
-                "must lie in (0, 1]: the rod must be driven past the boundary to be seen to snap",
+                crate::planning::rig::MARGIN_RULE,
             ));
         }
         rig.planner.margin = m;

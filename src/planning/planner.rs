@@ -291,7 +291,7 @@ pub struct RayPlan {
 /// ```
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RigOverrides {
-    /// `planner.margin`, in [0, 1].
+    /// `planner.margin` ([`MARGIN_RULE`](crate::planning::rig::MARGIN_RULE)).
     pub margin: Option<Real>,
     /// `clamp.origin` (base frame, m), see [`Rig::with_clamp_origin`].
     pub clamp: Option<[Real; 3]>,
@@ -311,8 +311,12 @@ impl RigOverrides {
             None => rig.clone(),
         };
         if let Some(m) = self.margin {
-            if !(0.0..=1.0).contains(&m) {
-                return Err(Error::invalid("margin (override)", m, "must lie in [0, 1]"));
+            if !crate::planning::rig::margin_ok(m) {
+                return Err(Error::invalid(
+                    "margin (override)",
+                    m,
+                    crate::planning::rig::MARGIN_RULE,
+                ));
             }
             rig.planner.margin = m;
         }

@@ -251,10 +251,23 @@ pub const DEFAULT_MOTOR_ACCELERATION: Real = 5.0;
 /// embedded arms (Panda: 7.5–20 rad/s²).
 pub const DEFAULT_JOINT_ACCELERATION: Real = 2.0;
 
+/// The one rule for a margin M past the boundary — `planner.margin`,
+/// `planner.margin_supercritical` and the `--margin` of every command (`plan`, `reach`, `layout`,
+/// …): the rod is driven to s*·(1 + M) with 0 ≤ M ≤ 1. 0 drives exactly to the predicted boundary
+/// (as the seed experiment did), 1 to twice it.
+pub const MARGIN_RULE: &str =
+    "must lie in [0, 1] (the rod is driven to s*·(1 + margin); 0: exactly to the predicted boundary)";
+
+/// Whether `m` obeys [`MARGIN_RULE`].
+pub fn margin_ok(m: Real) -> bool {
+    (0.0..=1.0).contains(&m)
+}
+
 /// Planner settings (the `[planner]` table).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlannerSettings {
-    /// Fraction past the boundary s* to drive the rod (≥ 0; 0 = to the boundary).
+    /// Fraction past the boundary s* to drive the rod ([`MARGIN_RULE`]: 0 ≤ margin ≤ 1; 0 = to
+    /// the boundary).
     pub margin: Real,
     /// Fraction past s* for a ray whose loss of stability is supercritical (a gradual
     /// departure: amplitude ∝ √(s − s*), so it must be driven further before it is visible);
@@ -993,23 +1006,15 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
     let d = PlannerSettings::default();
     let p = raw.planner;
     let margin = c.finite("planner.margin", p.margin.unwrap_or(d.margin))?;
-    if !(0.0..=1.0).contains(&margin) {
-        return Err(c.err(
-            "planner.margin",
-            margin,
-            "must lie in [0, 1] (0: drive exactly to the predicted boundary, as the seed did)",
-        ));
+    if !margin_ok(margin) {
+        return Err(c.err("planner.margin", margin, MARGIN_RULE));
     }
     let margin_supercritical = match p.margin_supercritical {
         None => None,
         Some(m) => {
             let m = c.finite("planner.margin_supercritical", m)?;
-            if !(0.0..=1.0).contains(&m) {
-                return Err(c.err(
-                    "planner.margin_supercritical",
-                    m,
-                    "must lie in [0, 1] (the margin past s* of a supercritical ray)",
-                ));
+            if !margin_ok(m) {
+                return Err(c.err("planner.margin_supercritical", m, MARGIN_RULE));
             }
             Some(m)
         }

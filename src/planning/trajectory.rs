@@ -35,8 +35,9 @@
 //! the finite differences of the times and positions.
 //!
 //! # Outputs (written by [`crate::records::trajectory`])
-//! - CSV: `t,q0..q{n-1},motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`, then the velocities
-//!   `v_q0..,v_motor` and accelerations `a_q0..,a_motor`; the pose is the tool frame in the robot
+//! - CSV: `t,<joint names>,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`, then the
+//!   velocities `v_<joint>..,v_motor` and accelerations `a_<joint>..,a_motor` (the URDF joint
+//!   names, as in the JSON; readers also take the earlier `q0..` header); the pose is the tool frame in the robot
 //!   base frame, the quaternion scalar first; `phase` is one of `load`, `reconfigure`, `hold`,
 //!   `unload`.
 //! - JSON / YAML: the arm's ROS 2 `trajectory_msgs/msg/JointTrajectory` (the motor on its own).

@@ -12,7 +12,7 @@
 //! | [`read_reach`] | `helixreach reach` | `dir_kappa,dir_tau,dir_omega,s_star,s_reached,class,cause` (`roll_mode` optional) |
 //! | [`read_series`] | `helixreach simulate` | `s,error` (`t` optional) |
 //! | [`read_speed_error`] | benches / `demo` | `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` |
-//! | [`read_trajectory`] | `helixreach plan` ([`trajectory`]) | `s,q0..qN` (consecutive from `q0`), `motor` optional |
+//! | [`read_trajectory`] | `helixreach plan` ([`trajectory`]) | `s`, the joints before `motor` (or `q0..qN`, consecutive from `q0`) |
 //! | [`read_joint_limits`] | user / `demo` | `joint,lower,upper` |
 
 pub mod bifurcation;
@@ -39,7 +39,7 @@ use crate::error::{Error, Result};
 use crate::math::Real;
 use csv_out::CsvRecord;
 use std::path::{Path, PathBuf};
-use trajectory::{joint_column, MOTOR_COLUMN};
+use trajectory::{joint_columns, MOTOR_COLUMN};
 
 /// One direction of a boundary CSV: where the ray S̄ leaves the stable set.
 #[derive(Debug, Clone, PartialEq)]
@@ -509,18 +509,23 @@ pub fn read_speed_error(path: &Path) -> Result<Vec<SpeedErrorRow>> {
         .collect()
 }
 
-/// Read a trajectory CSV (`helixreach plan`): the joint columns are `q0, q1, …` up to the first
-/// missing index.
+/// Read a trajectory CSV (`helixreach plan`) without knowing the robot: the joint columns are
+/// `q0, q1, …` (the earlier header) up to the first missing index, otherwise the columns before
+/// `motor` but `t` (the joint names of [`trajectory::trajectory_header`], in file order).
 pub fn read_trajectory(path: &Path) -> Result<Vec<TrajectoryRow>> {
     let t = Table::read(path)?;
     let is = t.col("s")?;
-    let mut iq = Vec::new();
-    while t.has(&joint_column(iq.len())) {
-        iq.push(t.col(&joint_column(iq.len()))?);
-    }
-    if iq.is_empty() {
-        return Err(t.col("q0").unwrap_err());
-    }
+    let Some((iq, _)) = joint_columns(&t.headers, &[]) else {
+        return Err(Error::File {
+            path: t.path.clone(),
+            reason: format!(
+                "no joint columns: neither q0, q1, … nor joint columns before `{MOTOR_COLUMN}` \
+                 (header: {})",
+                t.headers.join(",")
+            ),
+        });
+    };
+    let names: Vec<String> = iq.iter().map(|&c| t.headers[c].clone()).collect();
     let it = t.has("t").then(|| t.col("t")).transpose()?;
     let imo = t
         .has(MOTOR_COLUMN)
@@ -537,7 +542,7 @@ pub fn read_trajectory(path: &Path) -> Result<Vec<TrajectoryRow>> {
                 q: iq
                     .iter()
                     .enumerate()
-                    .map(|(j, &c)| t.real(r, c, &joint_column(j), false))
+                    .map(|(j, &c)| t.real(r, c, &names[j], false))
                     .collect::<Result<_>>()?,
                 motor: match imo {
                     Some(c) => t.real(r, c, MOTOR_COLUMN, false)?,
@@ -642,6 +647,20 @@ mod tests {
         let t = read_trajectory(&p).unwrap();
         assert_eq!(t[1].q, vec![0.2, 0.3, 0.4]);
         assert_eq!(t[1].motor, 0.5);
+        // The joint names of `plan`'s header: the columns before `motor`.
+        let p = write(
+            d.path(),
+            "n.csv",
+            "t,right_j0,right_j1,right_j2,motor,s\n0,0.1,0.2,0.3,0,0\n1,0.2,0.3,0.4,0.5,0.1\n",
+        );
+        let n = read_trajectory(&p).unwrap();
+        assert_eq!(n, t);
+        let p = write(d.path(), "none.csv", "t,a,s\n0,0.1,0\n");
+        let e = read_trajectory(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("none.csv") && e.contains("no joint columns"),
+            "{e}"
+        );
         let p = write(d.path(), "l.csv", "joint,lower,upper\nj0,1,-1\n");
         let e = read_joint_limits(&p).unwrap_err().to_string();
         assert!(e.contains("l.csv:2") && e.contains("upper"), "{e}");

@@ -2,12 +2,14 @@
 //! and `trajectory.json`).
 //!
 //! - CSV: one [`TrajectoryRecord`] per sample, columns [`trajectory_header`]:
-//!   `t,q0..q{n-1},motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase` (the tool pose in the robot
-//!   base frame, the quaternion scalar first; numbers by [`fmt_real`](super::fmt_real)). Read back by
-//!   [`read_trajectory`](super::read_trajectory) (the figure),
-//!   `plot::render::input::read_trajectory` (the rendering) and
-//!   [`crate::planning::check::JointFile`] (`check --joints`), all by the column names
-//!   [`joint_column`], [`MOTOR_COLUMN`] and [`POSE_COLUMNS`].
+//!   `t,<joint names>,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`, then `v_<joint>..,v_motor`
+//!   and `a_<joint>..,a_motor` (the joints by their URDF names, as in the JSON and the sidecar;
+//!   the tool pose in the robot base frame, the quaternion scalar first; numbers by
+//!   [`fmt_real`](super::fmt_real)). Read back by [`read_trajectory`](super::read_trajectory)
+//!   (the figure), `plot::render::input::read_trajectory` (the rendering) and
+//!   [`crate::planning::check::JointFile`] (`check --trajectory`), all by the column names
+//!   ([`joint_columns`], [`MOTOR_COLUMN`], [`POSE_COLUMNS`]). Every reader also accepts the
+//!   earlier header, which named the joints `q0..q{n-1}` ([`joint_column`]).
 //! - JSON / YAML: [`JointTrajectoryMsg`], exactly ROS 2 `trajectory_msgs/msg/JointTrajectory`
 //!   (fields in the message's order; `time_from_start {sec, nanosec}`; positions, velocities,
 //!   accelerations, an empty effort), for the arm alone ([`Channels::Arm`], URDF joint names)
@@ -21,9 +23,58 @@ use crate::planning::trajectory::{RayOutcome, Trajectory, TrajectoryPoint};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// The name of joint column `j` (`q0`, `q1`, …).
+/// The earlier name of joint column `j` (`q0`, `q1`, …), before the header named the joints;
+/// still read everywhere.
 pub fn joint_column(j: usize) -> String {
     format!("q{j}")
+}
+
+/// Which header named the joint columns ([`joint_columns`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointHeader {
+    /// The robot's joint names (what [`trajectory_csv`] writes).
+    Names,
+    /// `q0, q1, …` (the earlier header).
+    Indexed,
+    /// No robot given: the columns before `motor`, `t` (or `time`) aside.
+    BeforeMotor,
+}
+
+/// The columns of the joints in a trajectory CSV `header`, in joint order.
+///
+/// With `joint_names` (the robot's, in chain order): every name found → those columns;
+/// otherwise `q0, q1, …` up to the first missing index (the caller compares the count with the
+/// robot's). Without (`&[]`): `q0, q1, …`; otherwise the columns before `motor` but `t`/`time`.
+/// `None` when nothing matches.
+pub fn joint_columns(
+    header: &[impl AsRef<str>],
+    joint_names: &[String],
+) -> Option<(Vec<usize>, JointHeader)> {
+    let find = |name: &str| header.iter().position(|h| h.as_ref() == name);
+    if !joint_names.is_empty() {
+        if let Some(c) = joint_names
+            .iter()
+            .map(|n| find(n))
+            .collect::<Option<Vec<_>>>()
+        {
+            return Some((c, JointHeader::Names));
+        }
+    }
+    let mut indexed = Vec::new();
+    while let Some(c) = find(&joint_column(indexed.len())) {
+        indexed.push(c);
+    }
+    if !indexed.is_empty() {
+        return Some((indexed, JointHeader::Indexed));
+    }
+    if !joint_names.is_empty() {
+        return None;
+    }
+    let motor = find(MOTOR_COLUMN)?;
+    let before: Vec<usize> = (0..motor)
+        .filter(|&c| !matches!(header[c].as_ref(), "t" | "time"))
+        .collect();
+    (!before.is_empty()).then_some((before, JointHeader::BeforeMotor))
 }
 
 /// The motor column.
@@ -46,17 +97,48 @@ pub const POSE_COLUMNS: [&str; 13] = [
     "phase",
 ];
 
-/// The CSV header of a trajectory with `dof` joints: `t`, the joints, [`POSE_COLUMNS`], then the
-/// velocities `v_q0..v_q{n-1},v_motor` (rad/s) and accelerations `a_q0..,a_motor` (rad/s²).
-pub fn trajectory_header(dof: usize) -> Vec<String> {
+/// The CSV header of a trajectory of the joints `joint_names` (URDF names, chain order): `t`,
+/// the joints, [`POSE_COLUMNS`], then the velocities `v_<joint>..,v_motor` (rad/s) and the
+/// accelerations `a_<joint>..,a_motor` (rad/s²).
+///
+/// A name that cannot be a column is an error naming it: empty, with a comma, quote or line
+/// break or surrounding spaces, a name the header has already (`t`, `motor`, `s`, `x`, … or
+/// another joint's), or `q<k>` at another index than `k` (the earlier header's name of joint k).
+pub fn trajectory_header(joint_names: &[String]) -> Result<Vec<String>> {
     let mut h = vec!["t".to_string()];
-    h.extend((0..dof).map(joint_column));
+    h.extend(joint_names.iter().cloned());
     h.extend(POSE_COLUMNS.iter().map(|s| s.to_string()));
     for prefix in ["v_", "a_"] {
-        h.extend((0..dof).map(|j| format!("{prefix}{}", joint_column(j))));
+        h.extend(joint_names.iter().map(|n| format!("{prefix}{n}")));
         h.push(format!("{prefix}{MOTOR_COLUMN}"));
     }
-    h
+    for (j, n) in joint_names.iter().enumerate() {
+        let field = format!("joint {j} name");
+        if n.is_empty() || n.trim() != n || n.contains([',', '"', '\n', '\r']) {
+            return Err(Error::invalid(
+                field,
+                format!("{n:?}"),
+                "cannot be a CSV column name (empty, spaces around it, or a comma, quote or line break)",
+            ));
+        }
+        if h.iter().filter(|c| *c == n).count() > 1 {
+            return Err(Error::invalid(
+                field,
+                n,
+                "is also another column of the trajectory CSV header",
+            ));
+        }
+        if let Some(k) = n.strip_prefix('q').and_then(|k| k.parse::<usize>().ok()) {
+            if k != j {
+                return Err(Error::invalid(
+                    field,
+                    n,
+                    format!("is the earlier header's name of joint {k}: ambiguous"),
+                ));
+            }
+        }
+    }
+    Ok(h)
 }
 
 /// One sample of a trajectory CSV (columns [`trajectory_header`]).
@@ -65,7 +147,7 @@ pub struct TrajectoryRecord<'a> {
     /// Time from start (s).
     #[serde(serialize_with = "csv_out::real")]
     pub t: Real,
-    /// Joint angles (rad), one column each.
+    /// Joint angles (rad), one column each (named by the joints).
     #[serde(serialize_with = "csv_out::reals")]
     pub q: &'a [Real],
     /// Motor angle (rad).
@@ -140,8 +222,9 @@ impl<'a> From<&'a TrajectoryPoint> for TrajectoryRecord<'a> {
     }
 }
 
-/// The CSV text of `traj`: [`trajectory_header`], one [`TrajectoryRecord`] per point. Every point
-/// must have as many joints as the first (else an error naming the point).
+/// The CSV text of `traj`: [`trajectory_header`] of its joint names, one [`TrajectoryRecord`]
+/// per point. Every point must have as many joints as the first and as `traj.joint_names` (else
+/// an error naming the point).
 pub fn trajectory_csv(traj: &Trajectory) -> Result<String> {
     let dof = traj
         .points
@@ -156,8 +239,15 @@ pub fn trajectory_csv(traj: &Trajectory) -> Result<String> {
             format!("joints (and velocities, accelerations: one more, the motor), the first point has {dof}"),
         ));
     }
+    if traj.joint_names.len() != dof {
+        return Err(Error::invalid(
+            "trajectory joint names",
+            traj.joint_names.len(),
+            format!("names for {dof} joints"),
+        ));
+    }
     let rows: Vec<TrajectoryRecord<'_>> = traj.points.iter().map(Into::into).collect();
-    let header = trajectory_header(dof);
+    let header = trajectory_header(&traj.joint_names)?;
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
     csv_out::to_csv_with(&header, &rows)
 }
@@ -463,23 +553,60 @@ mod tests {
         let tr = traj();
         let text = trajectory_csv(&tr).unwrap();
         assert!(text.starts_with(
-            "t,q0,q1,q2,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_q0,v_q1,v_q2,v_motor,a_q0,a_q1,a_q2,a_motor\n0.1,0,0.00000000000000001,1,"
+            "t,a,b,c,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_a,v_b,v_c,v_motor,a_a,a_b,a_c,a_motor\n0.1,0,0.00000000000000001,1,"
         ));
+        // The earlier header (q0..), and the joint columns in another order: the same rows.
+        let indexed = text.replacen(
+            "t,a,b,c,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_a,v_b,v_c,v_motor,a_a,a_b,a_c,",
+            "t,q0,q1,q2,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_q0,v_q1,v_q2,v_motor,a_q0,a_q1,a_q2,",
+            1,
+        );
+        assert_ne!(indexed, text);
         let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("t.csv");
-        std::fs::write(&path, &text).unwrap();
+        for (file, text, format) in [
+            ("named.csv", &text, "csv header: joint names"),
+            ("indexed.csv", &indexed, "csv header: q0.."),
+        ] {
+            let path = dir.path().join(file);
+            std::fs::write(&path, text).unwrap();
+            read_back(&tr, &path, text, format, true);
+        }
+        // The readers that know the robot find its joint columns by name, wherever they are.
+        let swapped: String = text
+            .lines()
+            .map(|l| {
+                let mut f: Vec<&str> = l.split(',').collect();
+                f.swap(1, 3);
+                f.join(",") + "\n"
+            })
+            .collect();
+        assert!(swapped.starts_with("t,c,b,a,motor"));
+        let path = dir.path().join("swapped.csv");
+        std::fs::write(&path, &swapped).unwrap();
+        read_back(&tr, &path, &swapped, "csv header: joint names", false);
+    }
 
-        let rows = super::super::read_trajectory(&path).unwrap();
+    /// Every reader reads `tr` back from `path` (the robot-less figure reader only when `all`:
+    /// it takes the columns before `motor` in file order).
+    fn read_back(tr: &Trajectory, path: &Path, text: &str, format: &str, all: bool) {
+        let rows = if all {
+            super::super::read_trajectory(path).unwrap()
+        } else {
+            Vec::new()
+        };
         let names = tr.joint_names.clone();
         #[cfg(feature = "plots")]
-        let rendered = crate::plot::render::input::read_trajectory(&path, &names, "r").unwrap();
-        let joints = JointFile::parse(&text, &path, &names).unwrap();
-        assert_eq!(joints.format, "csv header: q0..");
+        let rendered = crate::plot::render::input::read_trajectory(path, &names, "r").unwrap();
+        let joints = JointFile::parse(text, path, &names).unwrap();
+        assert_eq!(joints.format, format);
+        assert_eq!(rows.len(), if all { tr.points.len() } else { 0 });
         for (k, p) in tr.points.iter().enumerate() {
-            assert_eq!(rows[k].q, p.q);
-            assert_eq!(rows[k].t.to_bits(), p.t.to_bits());
-            assert_eq!(rows[k].s.to_bits(), p.s.to_bits());
-            assert_eq!(rows[k].motor.to_bits(), p.motor.to_bits());
+            if let Some(r) = rows.get(k) {
+                assert_eq!(r.q, p.q);
+                assert_eq!(r.t.to_bits(), p.t.to_bits());
+                assert_eq!(r.s.to_bits(), p.s.to_bits());
+                assert_eq!(r.motor.to_bits(), p.motor.to_bits());
+            }
             #[cfg(feature = "plots")]
             {
                 assert_eq!(rendered[k].q, p.q);

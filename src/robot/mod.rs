@@ -37,6 +37,7 @@ pub use collision::{
 pub use ik::{IkParams, IkSolution, IkSolver, IkTarget};
 pub use kinematics::{Chain, Frame, Jacobian, MAX_DOF};
 pub use model::{
-    pose_from_xyz_wxyz, CollisionGeometry, JointInfo, LinkInfo, MeshGeometry, RobotModel, Shape,
+    pose_from_matrix, pose_from_xyz_wxyz, pose_to_xyz_wxyz, CollisionGeometry, JointInfo, LinkInfo,
+    MeshGeometry, RobotModel, Shape,
 };
 pub use urdf::{builtin, Builtin, LoadOptions, BUILTINS};

@@ -382,6 +382,99 @@ impl RobotModel {
     }
 }
 
+/// The pose `f` as `x, y, z, qw, qx, qy, qz` (metres; unit quaternion, scalar first, with
+/// `qw ≥ 0`): the one pose format of the command line, read back by [`pose_from_xyz_wxyz`].
+///
+/// ```
+/// use helixreach::robot::{pose_from_xyz_wxyz, pose_to_xyz_wxyz};
+/// let v = [0.5, -0.1, 0.3, 0.0, 1.0, 0.0, 0.0];
+/// let back = pose_to_xyz_wxyz(&pose_from_xyz_wxyz(&v).unwrap());
+/// assert!(back.iter().zip(v).all(|(a, b)| (a - b).abs() < 1e-15));
+/// ```
+pub fn pose_to_xyz_wxyz(f: &Frame) -> [Real; 7] {
+    let q = Quat::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(f.rot));
+    let s = if q.w < 0.0 { -1.0 } else { 1.0 };
+    [
+        f.pos.x,
+        f.pos.y,
+        f.pos.z,
+        s * q.w,
+        s * q.i,
+        s * q.j,
+        s * q.k,
+    ]
+}
+
+/// A pose from its 4×4 homogeneous matrix, 16 values row by row (`R t; 0 0 0 1`, metres),
+/// validated: finite values, last row `0 0 0 1` (each within 1e-9), `‖RᵀR − I‖ ≤ 1e-6` (the
+/// quaternion's tolerance, so a matrix printed to 7 digits reads) and `det R > 0`. `R` is then
+/// replaced by the nearest rotation.
+///
+/// ```
+/// use helixreach::robot::pose_from_matrix;
+/// let m = [0.0, -1.0, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.2, 0.0, 0.0, 0.0, 1.0];
+/// let f = pose_from_matrix(&m).unwrap();
+/// assert_eq!((f.pos.x, f.rot[(1, 0)]), (0.5, 1.0));
+/// let mut mirror = m;
+/// mirror[10] = -1.0;
+/// assert!(pose_from_matrix(&mirror).unwrap_err().to_string().contains("det"));
+/// ```
+pub fn pose_from_matrix(v: &[Real]) -> Result<Frame> {
+    if v.len() != 16 {
+        return Err(Error::invalid(
+            "pose matrix",
+            format!("{} values", v.len()),
+            "expected 16: the 4×4 homogeneous matrix, row by row",
+        ));
+    }
+    for (k, x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(Error::invalid(
+                format!("pose matrix[{}][{}]", k / 4, k % 4),
+                x,
+                "must be finite",
+            ));
+        }
+    }
+    for (c, want) in [0.0, 0.0, 0.0, 1.0].into_iter().enumerate() {
+        if (v[12 + c] - want).abs() > 1e-9 {
+            return Err(Error::invalid(
+                format!("pose matrix[3][{c}]"),
+                v[12 + c],
+                "the last row must be 0 0 0 1",
+            ));
+        }
+    }
+    let r = crate::math::Mat3::new(v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]);
+    let ortho = (r.transpose() * r - crate::math::Mat3::identity()).norm();
+    if ortho > crate::math::tol::UNIT_QUATERNION {
+        return Err(Error::invalid(
+            "pose matrix rotation",
+            format!("‖RᵀR − I‖ = {ortho:e}"),
+            format!(
+                "must be orthonormal (‖RᵀR − I‖ ≤ {:e})",
+                crate::math::tol::UNIT_QUATERNION
+            ),
+        ));
+    }
+    let det = r.determinant();
+    if det <= 0.0 {
+        return Err(Error::invalid(
+            "pose matrix rotation",
+            format!("det {det}"),
+            "must be a rotation (det > 0), not a reflection",
+        ));
+    }
+    // Started from R itself (within 1e-6 of a rotation): converges in a few iterations.
+    let nearest = nalgebra::Rotation3::from_matrix_eps(
+        &r,
+        1e-15,
+        100,
+        nalgebra::Rotation3::from_matrix_unchecked(r),
+    );
+    Ok(Frame::new(*nearest.matrix(), Vec3::new(v[3], v[7], v[11])))
+}
+
 /// A pose from `x, y, z, qw, qx, qy, qz` (metres; unit quaternion), validated: finite values
 /// and `|‖q‖ − 1| ≤ 1e-6` (the quaternion is then normalized).
 ///

@@ -4,6 +4,8 @@
 //! Exit code 0 on success, 2 on error; a broken pipe on stdout counts as success. A command
 //! whose answer is "no" exits with its own code (`commands::Verdict`): `plan` 3 when the ray
 //! cannot be driven to its target, `check` 64 + a bit per kind of finding.
+//! `helixreach --version` prints the version and the git commit it was built from (`unknown`
+//! when built outside a git checkout; see `build.rs`).
 
 mod commands;
 
@@ -12,7 +14,11 @@ use std::process::ExitCode;
 
 /// Plan robotic stability experiments on elastic rods with helical centerlines.
 #[derive(Debug, Parser)]
-#[command(name = "helixreach", version, about)]
+#[command(
+    name = "helixreach",
+    version = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("HELIXREACH_COMMIT"), ")"),
+    about
+)]
 struct Cli {
     /// `--threads`, `--quiet`: taken by every subcommand.
     #[command(flatten)]

@@ -2,8 +2,8 @@
 //! the choice of frames.
 //!
 //! # Columns
-//! `q0..q{n−1}` (one per robot joint: exactly the robot's count), `s`, `kappa`, `tau`, `omega`
-//! are required; `t`, `motor`, `x,y,z` (the rod end in the base frame), `azimuth` and `phase`
+//! The robot's joints by their URDF names (any order), or `q0..q{n−1}` (the earlier header:
+//! exactly the robot's count), and `s`, `kappa`, `tau`, `omega` are required; `t`, `motor`, `x,y,z` (the rod end in the base frame), `azimuth` and `phase`
 //! (`load`, `reconfigure`, `hold`, `unload`) are used when present. Every value used must be
 //! finite; an error names the file, the line and the field.
 //!
@@ -28,7 +28,7 @@ use crate::error::{Error, Result};
 use crate::io::{bad_line, parse_field, CsvInput};
 use crate::math::{Real, Vec3};
 use crate::plot::style::guard;
-use crate::records::trajectory::{joint_column, MOTOR_COLUMN};
+use crate::records::trajectory::{joint_columns, MOTOR_COLUMN};
 use std::path::Path;
 
 /// Largest distance (m) between a row's rod end and the helix end on the rig, and between the
@@ -70,19 +70,32 @@ pub struct Row {
 pub fn read_trajectory(path: &Path, joint_names: &[String], robot: &str) -> Result<Vec<Row>> {
     let mut csv = CsvInput::open(path)?;
     let dof = joint_names.len();
-    let mut iq = Vec::new();
-    while let Ok(c) = csv.column(&joint_column(iq.len()), "") {
-        iq.push(c);
-    }
-    if iq.len() != dof {
-        return Err(csv.file_error(format!(
-            "has {} joint columns (q0..q{}) but robot {robot} has {dof} joints ({}): \
-             the trajectory is for another robot",
-            iq.len(),
-            iq.len().saturating_sub(1),
-            joint_names.join(",")
-        )));
-    }
+    let header: Vec<String> = csv
+        .reader
+        .headers()
+        .map_or_else(|_| Vec::new(), |h| h.iter().map(str::to_string).collect());
+    let iq = match joint_columns(&header, joint_names) {
+        Some((iq, _)) if iq.len() == dof => iq,
+        Some((iq, _)) => {
+            return Err(csv.file_error(format!(
+                "has {} joint columns (q0..q{}) but robot {robot} has {dof} joints ({}): the \
+                 trajectory is for another robot",
+                iq.len(),
+                iq.len().saturating_sub(1),
+                joint_names.join(",")
+            )))
+        }
+        None => {
+            return Err(csv.file_error(format!(
+                "names neither the {dof} joints of robot {robot} ({}) nor q0..q{}: the \
+                 trajectory is for another robot (header: {})",
+                joint_names.join(","),
+                dof.saturating_sub(1),
+                header.join(",")
+            )))
+        }
+    };
+    let qnames: Vec<&str> = iq.iter().map(|&c| header[c].as_str()).collect();
     let hint = "a trajectory CSV as `helixreach plan` writes";
     let is = csv.column("s", hint)?;
     let ik = [
@@ -124,7 +137,7 @@ pub fn read_trajectory(path: &Path, joint_names: &[String], robot: &str) -> Resu
         let q = iq
             .iter()
             .enumerate()
-            .map(|(j, &c)| num(c, &joint_column(j)))
+            .map(|(j, &c)| num(c, qnames[j]))
             .collect::<Result<Vec<_>>>()?;
         let t = match it {
             Some(c) => num(c, "t")?,

@@ -51,11 +51,26 @@ pub fn checkpoint_interval(secs: f64) -> anyhow::Result<std::time::Duration> {
     Ok(std::time::Duration::from_secs_f64(secs))
 }
 
+/// `--margin M`: one rule for every command
+/// ([`MARGIN_RULE`](helixreach::planning::rig::MARGIN_RULE): 0 ≤ M ≤ 1).
+pub fn parse_margin(s: &str) -> Result<f64, String> {
+    let m: f64 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("`{s}` is not a number ({e})"))?;
+    if helixreach::planning::rig::margin_ok(m) {
+        Ok(m)
+    } else {
+        Err(format!("{m} {}", helixreach::planning::rig::MARGIN_RULE))
+    }
+}
+
 /// Overrides of a rig's settings for one run.
 #[derive(Debug, clap::Args)]
 pub struct RigOverrideArgs {
-    /// Drive the rod to s*·(1 + M) (overrides the rig's `planner.margin`; 0 = to the boundary).
-    #[arg(long)]
+    /// Drive the rod to s*·(1 + M), 0 ≤ M ≤ 1 (0: to the boundary); overrides the rig's
+    /// `planner.margin`.
+    #[arg(long, value_name = "M", value_parser = parse_margin, allow_hyphen_values = true)]
     pub margin: Option<f64>,
     /// Clamp position `x,y,z` in the robot base frame (m), overriding the rig's `clamp.origin`.
     #[arg(long, allow_hyphen_values = true)]
@@ -93,7 +108,7 @@ impl RigOverrideArgs {
             allow_backoff: self.no_backoff.then_some(false),
         };
         o.apply(rig)
-            .map_err(|e| anyhow::anyhow!("--margin / --clamp: {e}"))
+            .map_err(|e| anyhow::anyhow!("rig overrides (--margin, --clamp, …): {e}"))
     }
 }
 

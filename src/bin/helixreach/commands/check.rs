@@ -33,8 +33,9 @@ pub struct Args {
     pub rig: String,
     /// The trajectory: whitespace rows of joint values (the seed's files), a headerless CSV, or
     /// a CSV with joint-name (or q0..) columns (helixreach `plan`, a MoveIt export).
-    #[arg(long)]
-    pub joints: PathBuf,
+    // `--joints FILE`: the earlier spelling, kept as a hidden alias (`--joints` now means values).
+    #[arg(long, value_name = "FILE", alias = "joints")]
+    pub trajectory: PathBuf,
     /// The ray's direction `κ,τ,ω` (normalized): enables the pose error and the rod check.
     #[arg(long, allow_hyphen_values = true)]
     pub direction: Option<String>,
@@ -79,7 +80,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let out = args.out.as_ref().map(|o| {
         Output::new(o)
             .force(args.force)
-            .input(&args.joints)
+            .input(&args.trajectory)
             .input(std::path::Path::new(&args.rig))
     });
     if let Some(o) = &out {
@@ -102,11 +103,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .azimuth
         .unwrap_or_else(|| rig.azimuths.first().copied().unwrap_or(0.0));
     let checker = Checker::new(rig)?;
-    let traj = checker.read(&args.joints)?;
+    let traj = checker.read(&args.trajectory)?;
     status!(
         "checking {} rows of {} ({}) on rig {}",
         traj.rows(),
-        args.joints.display(),
+        args.trajectory.display(),
         traj.format,
         checker.rig().name
     );

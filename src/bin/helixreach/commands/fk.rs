@@ -1,7 +1,11 @@
-//! `helixreach fk`: the tool pose of a URDF robot at a joint vector, as JSON
-//! `{"position":[x,y,z],"rotation":[[…],[…],[…]]}` (rows of R, URDF root frame, metres).
+//! `helixreach fk`: the tool pose of a URDF robot at a joint vector (URDF root frame, metres), in
+//! the one pose format of the command line: `x,y,z,qw,qx,qy,qz` (unit quaternion, scalar first,
+//! `qw ≥ 0`) on one line, what `ik --pose` reads; `--matrix`: the 4×4 homogeneous matrix, one
+//! row per line, what `ik --matrix --pose` reads.
 
 use anyhow::Context;
+use helixreach::records::fmt_real;
+use helixreach::robot::pose_to_xyz_wxyz;
 
 /// Arguments of `helixreach fk`.
 #[derive(Debug, clap::Args)]
@@ -18,6 +22,10 @@ pub struct Args {
     /// Joint values (rad), comma-separated, root first.
     #[arg(long, allow_hyphen_values = true)]
     pub joints: String,
+    /// Print the 4×4 homogeneous matrix (four lines `r00,r01,r02,x` … `0,0,0,1`) instead of
+    /// `x,y,z,qw,qx,qy,qz`.
+    #[arg(long)]
+    pub matrix: bool,
 }
 
 /// Parse a comma-separated list of numbers; `what` names the option in errors.
@@ -37,15 +45,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let model = args.load.load(&args.robot, args.tip.as_deref())?;
     let q = parse_list("--joints", &args.joints)?;
     let f = model.tool_pose(&q)?;
-    let r = f.rot;
-    let json = serde_json::json!({
-        "position": [f.pos.x, f.pos.y, f.pos.z],
-        "rotation": [
-            [r[(0, 0)], r[(0, 1)], r[(0, 2)]],
-            [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
-            [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
-        ],
-    });
-    println!("{json}");
+    let line = |v: &[f64]| v.iter().map(|&x| fmt_real(x)).collect::<Vec<_>>().join(",");
+    if args.matrix {
+        let r = f.rot;
+        for i in 0..3 {
+            println!("{}", line(&[r[(i, 0)], r[(i, 1)], r[(i, 2)], f.pos[i]]));
+        }
+        println!("0,0,0,1");
+    } else {
+        println!("{}", line(&pose_to_xyz_wxyz(&f)));
+    }
     Ok(())
 }

@@ -1,10 +1,12 @@
 //! `helixreach ik`: every IK solution found for a tool pose, as CSV on stdout: one row per
 //! solution with the joint values (rad), the position error (m) and the rotation error (rad; the
-//! tool-axis angle with `--free-roll`), both measured by FK.
+//! tool-axis angle with `--free-roll`), both measured by FK. The pose is `fk`'s output:
+//! `x,y,z,qw,qx,qy,qz`, or with `--matrix` the 4×4 homogeneous matrix.
 
 use super::fk::parse_list;
+use anyhow::Context;
 use helixreach::records::ik::{ik_csv, IkSolutionRecord};
-use helixreach::robot::{pose_from_xyz_wxyz, IkParams, IkSolver, IkTarget};
+use helixreach::robot::{pose_from_matrix, pose_from_xyz_wxyz, IkParams, IkSolver, IkTarget};
 use std::io::Write;
 
 /// Arguments of `helixreach ik`.
@@ -19,9 +21,14 @@ pub struct Args {
     /// Mesh search paths and links without collision geometry.
     #[command(flatten)]
     pub load: super::args::RobotLoadArgs,
-    /// Tool pose in the root frame: x,y,z,qw,qx,qy,qz (m; unit quaternion).
+    /// Tool pose in the root frame: x,y,z,qw,qx,qy,qz (m; unit quaternion, scalar first), as
+    /// `fk` prints it.
     #[arg(long, allow_hyphen_values = true)]
     pub pose: String,
+    /// `--pose` is the 4×4 homogeneous matrix instead: 16 values row by row, separated by commas
+    /// or white space (as `fk --matrix` prints it).
+    #[arg(long)]
+    pub matrix: bool,
     /// Leave the roll about the tool z axis free (only position + tool axis are imposed).
     #[arg(long)]
     pub free_roll: bool,
@@ -46,7 +53,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     check_size("--samples", args.samples, MAX_IK_SAMPLES)?;
     check_size("--restarts", args.restarts, MAX_IK_RESTARTS)?;
     let model = args.load.load(&args.robot, args.tip.as_deref())?;
-    let pose = pose_from_xyz_wxyz(&parse_list("--pose", &args.pose)?)?;
+    let pose = if args.matrix {
+        // fk --matrix's four lines of commas, or values separated by white space only.
+        let joined = if args.pose.contains(',') {
+            let lines: Vec<&str> = args.pose.trim().lines().map(str::trim).collect();
+            lines.join(",")
+        } else {
+            args.pose.split_whitespace().collect::<Vec<_>>().join(",")
+        };
+        let v = parse_list("--pose", &joined)?;
+        pose_from_matrix(&v).context("--pose (with --matrix)")?
+    } else {
+        pose_from_xyz_wxyz(&parse_list("--pose", &args.pose)?).context("--pose")?
+    };
     let mut target = IkTarget::pose(pose)?;
     if args.free_roll {
         target = target.free_roll();

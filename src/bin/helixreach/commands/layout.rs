@@ -35,8 +35,9 @@ pub struct Args {
     /// Number of placements K.
     #[arg(long, default_value_t = 3)]
     pub placements: usize,
-    /// Margin past the boundary (overrides the rig's planner.margin).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Drive the rod to s*·(1 + M), 0 ≤ M ≤ 1 (0: to the boundary); overrides the rig's
+    /// `planner.margin`.
+    #[arg(long, value_name = "M", value_parser = super::args::parse_margin, allow_hyphen_values = true)]
     pub margin: Option<f64>,
     /// Roll mode (`fixed` or `motor`); default: the rig's.
     #[arg(long)]
