@@ -25,6 +25,7 @@
 //! frames and posed bodies, sized once: no allocation per check.
 
 pub mod disabled;
+pub mod fit;
 mod narrow;
 pub mod scene;
 mod walk;
