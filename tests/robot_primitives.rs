@@ -180,3 +180,253 @@ fn every_mesh_vertex_is_inside_its_capsule_and_the_gap_matches_brute_force() {
     }
     assert!(n_meshes >= 30, "{n_meshes} meshes");
 }
+
+// ---------------------------------------------------------------------------------------------
+// The three collision models on random configurations.
+
+use helixreach::robot::collision::{CollisionKind, CollisionSettings, RodGeometry};
+use helixreach::robot::{CollisionModel, DisabledPairs, RobotModel};
+
+fn model(m: &RobotModel, kind: CollisionKind, padding: Real) -> CollisionModel {
+    CollisionModel::with_settings(
+        m,
+        &DisabledPairs::default(),
+        &[],
+        &CollisionSettings {
+            padding,
+            link_padding: Vec::new(),
+            kind,
+        },
+    )
+    .unwrap()
+}
+
+/// On 500 seeded random configurations per arm (padding 0 and 1 cm): every self-contact link
+/// pair of the hull model is one of the primitives model (the capsules contain the hulls), and
+/// `primitives_then_hull` reports exactly the hull model's pairs and first hit; a random rod
+/// near the arm likewise. The hull model's answer is checked against parry alone too.
+#[test]
+fn primitives_never_miss_a_hull_contact_and_the_broad_phase_changes_nothing() {
+    for arm in &ARMS {
+        let m = robots::load(arm);
+        for pad in [0.0, 0.01] {
+            let hull = model(&m, CollisionKind::Hull, pad);
+            let prim = model(&m, CollisionKind::Primitives, pad);
+            let both = model(&m, CollisionKind::PrimitivesThenHull, pad);
+            let (mut wh, mut wp, mut wb) = (hull.workspace(), prim.workspace(), both.workspace());
+            let mut rng = ChaCha8Rng::seed_from_u64(17);
+            let (mut hull_hits, mut prim_extra, mut rod_hits) = (0usize, 0usize, 0usize);
+            for _ in 0..500 {
+                let q = m.random_config(&mut rng);
+                let q = &q[..m.dof()];
+                hull.update(q, &mut wh);
+                prim.update(q, &mut wp);
+                both.update(q, &mut wb);
+                let h = hull.self_collisions(&wh);
+                let p = prim.self_collisions(&wp);
+                let b = both.self_collisions(&wb);
+                let mut reference = hull.self_collision_parry(&wh);
+                reference.dedup();
+                assert_eq!(h, reference, "{}: hull model vs parry at {q:?}", arm.name);
+                for pair in &h {
+                    assert!(
+                        p.contains(pair),
+                        "{} pad {pad}: hulls of {} and {} touch at {q:?}, primitives say free",
+                        arm.name,
+                        m.links()[pair.0].name,
+                        m.links()[pair.1].name
+                    );
+                }
+                assert_eq!(
+                    b, h,
+                    "{} pad {pad}: primitives_then_hull at {q:?}",
+                    arm.name
+                );
+                assert_eq!(
+                    both.self_collision(&wb),
+                    hull.self_collision(&wh),
+                    "{} pad {pad}: first hit at {q:?}",
+                    arm.name
+                );
+                hull_hits += h.len();
+                prim_extra += p.len() - h.len();
+                // A rod from near a random link to the tool, bulging sideways.
+                let frames = hull.link_frames(&wh).to_vec();
+                let link = rng.random_range(0..frames.len());
+                let jitter = |rng: &mut ChaCha8Rng, s: Real| {
+                    Vec3::new(
+                        rng.random_range(-s..s),
+                        rng.random_range(-s..s),
+                        rng.random_range(-s..s),
+                    )
+                };
+                let start = frames[link].pos + jitter(&mut rng, 0.2);
+                let end = m.tool_pose(q).unwrap().pos;
+                let bulge = jitter(&mut rng, 0.3);
+                let nodes: Vec<Vec3> = (0..=16)
+                    .map(|i| {
+                        let t = i as Real / 16.0;
+                        start + (end - start) * t + bulge * (4.0 * t * (1.0 - t))
+                    })
+                    .collect();
+                let rod = RodGeometry {
+                    nodes: &nodes,
+                    radius: 0.004,
+                    ignore_near_clamp: 0.0,
+                    ignore_near_tool: 0.05,
+                    against_scene: false,
+                };
+                let rh = hull.rod_collision(&wh, &rod);
+                assert_eq!(
+                    both.rod_collision(&wb, &rod),
+                    rh,
+                    "{} pad {pad}: rod at {q:?}",
+                    arm.name
+                );
+                if rh.is_some() {
+                    rod_hits += 1;
+                    assert!(prim.rod_collision(&wp, &rod).is_some(), "{}: rod", arm.name);
+                }
+            }
+            eprintln!(
+                "{} pad {pad}: {hull_hits} hull contact pairs, {prim_extra} extra primitive pairs, {rod_hits} rod hits in 500 configurations",
+                arm.name
+            );
+            assert!(
+                hull_hits > 0 && rod_hits > 0,
+                "{}: nothing touched",
+                arm.name
+            );
+        }
+    }
+}
+
+/// Padding grows every fitted capsule's radius by exactly the link's padding (global and per
+/// link) and nothing else; and under `primitives` with padding p on every link, a
+/// configuration is in self-contact exactly when the unpadded capsules are within 2p (the
+/// unpadded model's clearance as the reference), on random Panda configurations.
+#[test]
+fn padding_grows_each_capsule_by_exactly_its_padding() {
+    let arm = ARMS.iter().find(|a| a.name == "panda").unwrap();
+    let m = robots::load(arm);
+    let plain = model(&m, CollisionKind::Primitives, 0.0);
+    let p = 0.015;
+    let padded = model(&m, CollisionKind::Primitives, p);
+    let hand = m.link_index("panda_hand").unwrap();
+    let per_link = CollisionModel::with_settings(
+        &m,
+        &DisabledPairs::default(),
+        &[],
+        &CollisionSettings {
+            padding: p,
+            link_padding: vec![("panda_hand".into(), 0.04)],
+            kind: CollisionKind::PrimitivesThenHull,
+        },
+    )
+    .unwrap();
+    let (c0, c1, c2) = (
+        plain.mesh_capsules(),
+        padded.mesh_capsules(),
+        per_link.mesh_capsules(),
+    );
+    assert!(!c0.is_empty() && c0.len() == c1.len() && c0.len() == c2.len());
+    for ((a, b), c) in c0.iter().zip(c1).zip(c2) {
+        assert_eq!((a.link, a.a, a.b), (b.link, b.a, b.b));
+        assert_eq!(b.radius, a.radius + p);
+        let want = if a.link == hand { 0.04 } else { p };
+        assert_eq!(c.radius, a.radius + want, "{}", m.links()[a.link].name);
+    }
+    assert!(c0.iter().any(|c| c.link == hand));
+    // Behaviour: contact ⇔ unpadded capsules within 2p.
+    let (mut w0, mut w1) = (plain.workspace(), padded.workspace());
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let (mut checked, mut only_padded) = (0, 0);
+    for _ in 0..500 {
+        let q = m.random_config(&mut rng);
+        let q = &q[..m.dof()];
+        plain.update(q, &mut w0);
+        padded.update(q, &mut w1);
+        let d = plain.self_clearance(&w0).unwrap().distance;
+        if (d - 2.0 * p).abs() > 1e-9 {
+            checked += 1;
+            let hit = padded.self_collision(&w1).is_some();
+            assert_eq!(hit, d <= 2.0 * p, "distance {d} at {q:?}");
+            only_padded += usize::from(hit && plain.self_collision(&w0).is_none());
+        }
+    }
+    assert!(checked > 450 && only_padded > 0, "{checked} {only_padded}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The rig's `collision_model`.
+
+use helixreach::planning::rig::{Rig, EMBEDDED_RIGS};
+
+/// A rig for the vendored Panda with `extra` lines in `[robot]`, written in `dir`.
+fn panda_rig(dir: &std::path::Path, extra: &str) -> std::path::PathBuf {
+    let seed = EMBEDDED_RIGS
+        .iter()
+        .find(|(n, _)| *n == "sawyer-seed")
+        .unwrap()
+        .1;
+    let arm = ARMS.iter().find(|a| a.name == "panda").unwrap();
+    let robot = format!(
+        "[robot]\nurdf = {:?}\ntip_link = \"panda_hand_tcp\"\npackage_paths = [{:?}]\n{extra}\n\n",
+        robots::urdf(arm).display().to_string(),
+        robots::package_dir().display().to_string()
+    );
+    let start = seed.find("[robot]").unwrap();
+    let end = start + seed[start..].find("[tool]").unwrap();
+    let text = format!("{}{robot}{}", &seed[..start], &seed[end..]);
+    let p = dir.join("panda-rig.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// `collision_model` selects the model (the default is `primitives_then_hull`), the collision
+/// summary names it, and a value that is not a model is refused naming the file, the field and
+/// the value.
+#[test]
+fn the_rig_chooses_the_collision_model_and_refuses_an_unknown_one() {
+    let dir = tempfile::tempdir().unwrap();
+    for (extra, kind) in [
+        ("", CollisionKind::PrimitivesThenHull),
+        ("collision_model = \"hull\"", CollisionKind::Hull),
+        (
+            "collision_model = \"primitives\"",
+            CollisionKind::Primitives,
+        ),
+        (
+            "collision_model = \"primitives_then_hull\"",
+            CollisionKind::PrimitivesThenHull,
+        ),
+    ] {
+        let p = panda_rig(dir.path(), extra);
+        let rig = Rig::load(p.to_str().unwrap()).unwrap();
+        assert_eq!(rig.robot.collision.kind, kind, "{extra}");
+        let src = p.display().to_string();
+        let m = rig.robot.load_model(&src).unwrap();
+        let cm = rig.robot.collision_model(&m, &[], &src).unwrap();
+        assert_eq!(cm.kind(), kind);
+        let s = cm.summary();
+        assert!(
+            s.contains(&format!("collision_model {}", kind.name())),
+            "{s}"
+        );
+    }
+    for bad in ["\"capsules\"", "\"Hull\"", "\"\""] {
+        let p = panda_rig(dir.path(), &format!("collision_model = {bad}"));
+        let e = Rig::load(p.to_str().unwrap()).unwrap_err().to_string();
+        assert!(
+            e.contains("panda-rig.toml")
+                && e.contains("robot.collision_model")
+                && e.contains(bad)
+                && e.contains("primitives_then_hull"),
+            "{e}"
+        );
+    }
+    // Not a string.
+    let p = panda_rig(dir.path(), "collision_model = 3");
+    let e = Rig::load(p.to_str().unwrap()).unwrap_err().to_string();
+    assert!(e.contains("collision_model"), "{e}");
+}
