@@ -625,6 +625,7 @@ fn padding_grows_every_body_by_its_amount() {
         &CollisionSettings {
             padding: p,
             link_padding: Vec::new(),
+            ..Default::default()
         },
     )
     .unwrap();

@@ -33,7 +33,7 @@
 
 use crate::error::{Error, Result};
 use crate::math::{Iso3, Mat3, Real, Vec3, DEG};
-use crate::robot::collision::{CollisionSettings, RodGeometry, MAX_PADDING};
+use crate::robot::collision::{CollisionKind, CollisionSettings, RodGeometry, MAX_PADDING};
 use crate::robot::mesh::MeshSearch;
 use crate::robot::SceneObstacle;
 use crate::robot::{CollisionModel, DisabledPairs, LoadOptions, RobotModel};
@@ -137,7 +137,10 @@ pub struct RobotSpec {
     pub package_paths: Vec<PathBuf>,
     /// Links meant to have no collision geometry (`[robot] no_collision`).
     pub no_collision: Vec<String>,
-    /// Padding of the robot's collision bodies (`[robot] padding`, `[robot.link_padding]`).
+    /// Padding of the robot's collision bodies (`[robot] padding`, `[robot.link_padding]`) and
+    /// what is checked for mesh hulls (`[robot] collision_model`: `hull`, `primitives` or
+    /// `primitives_then_hull`, the default; see
+    /// [`CollisionKind`](crate::robot::collision::CollisionKind)).
     pub collision: CollisionSettings,
     /// A MoveIt SRDF whose `<disable_collisions>` pairs are skipped (`[robot] srdf`, relative
     /// to the rig file), besides the robot's own never-colliding list.
@@ -651,6 +654,8 @@ struct RawRobot {
     link_padding: std::collections::BTreeMap<String, Real>,
     #[serde(default)]
     srdf: Option<String>,
+    #[serde(default)]
+    collision_model: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -1211,9 +1216,27 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             no_collision: raw.robot.no_collision,
             srdf: raw.robot.srdf.map(|p| dir.join(p)),
             collision: {
+                let kind = match &raw.robot.collision_model {
+                    None => CollisionKind::default(),
+                    Some(name) => CollisionKind::from_name(name).ok_or_else(|| {
+                        c.err(
+                            "robot.collision_model",
+                            format!("{name:?}"),
+                            &format!(
+                                "must be one of {}",
+                                CollisionKind::NAMES
+                                    .iter()
+                                    .map(|n| format!("\"{n}\""))
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            ),
+                        )
+                    })?,
+                };
                 let cs = CollisionSettings {
                     padding: raw.robot.padding,
                     link_padding: raw.robot.link_padding.into_iter().collect(),
+                    kind,
                 };
                 for (what, v) in std::iter::once(("robot.padding".to_string(), cs.padding)).chain(
                     cs.link_padding

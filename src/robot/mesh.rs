@@ -23,7 +23,8 @@
 //! every vertex, so a contact of the meshes is always a contact of their hulls (the hull may
 //! report contacts in concavities that the mesh does not have; never the reverse). The
 //! triangles are kept for the exact mesh–mesh reference of the tests
-//! ([`LoadedMesh::trimesh`]).
+//! ([`LoadedMesh::trimesh`]). A capsule containing the hull and every vertex is fitted at load
+//! ([`LoadedMesh::capsule`], [`fit`](crate::robot::collision::fit)): the fast primitive layer.
 
 use crate::error::{Error, Result};
 use crate::limits::{MAX_MESH_FILE_BYTES, MAX_MESH_TRIANGLES};
@@ -126,6 +127,9 @@ pub struct LoadedMesh {
     pub hull: SharedShape,
     /// The hull's vertices.
     pub hull_points: Vec<Vec3>,
+    /// A capsule containing the hull and every vertex, with its gap
+    /// ([`fit_capsule`](crate::robot::collision::fit::fit_capsule)).
+    pub capsule: crate::robot::collision::fit::FittedCapsule,
 }
 
 impl std::fmt::Debug for LoadedMesh {
@@ -135,6 +139,7 @@ impl std::fmt::Debug for LoadedMesh {
             .field("vertices", &self.vertices.len())
             .field("triangles", &self.triangles.len())
             .field("hull_points", &self.hull_points.len())
+            .field("capsule", &self.capsule)
             .finish()
     }
 }
@@ -266,6 +271,7 @@ pub fn load(path: &Path, scale: [Real; 3], what: &str) -> Result<LoadedMesh> {
             "no convex hull (the mesh is flat or degenerate: it encloses no volume)".into(),
         ));
     }
+    let capsule = crate::robot::collision::fit::fit_capsule(&hull, &hull_points, &vertices);
     Ok(LoadedMesh {
         file: path.to_path_buf(),
         source,
@@ -273,6 +279,7 @@ pub fn load(path: &Path, scale: [Real; 3], what: &str) -> Result<LoadedMesh> {
         triangles,
         hull: SharedShape::new(hull),
         hull_points,
+        capsule,
     })
 }
 

@@ -1,5 +1,5 @@
 //! The vendored real robot descriptions (`tests/data/robots/`, see its SOURCE.md): unpacked once
-//! (gzip meshes inflated) into the build's temporary directory.
+//! (gzip meshes inflated) into the build's temporary directory (the system's for examples).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -99,11 +99,15 @@ fn copy_tree(src: &Path, dst: &Path) {
 pub fn package_dir() -> PathBuf {
     static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
     DIR.get_or_init(|| {
-        let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("robots-v2");
+        // Tests and benches get the build's temporary directory; examples the system's.
+        let base = option_env!("CARGO_TARGET_TMPDIR").map_or_else(
+            || std::env::temp_dir().join("helixreach-test-robots"),
+            PathBuf::from,
+        );
+        let root = base.join("robots-v2");
         let done = root.join("example-robot-data/.unpacked");
         if !done.is_file() {
-            let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-                .join(format!("robots-unpack-{}", std::process::id()));
+            let tmp = base.join(format!("robots-unpack-{}", std::process::id()));
             let _ = std::fs::remove_dir_all(&tmp);
             let src =
                 Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/robots/example-robot-data");

@@ -8,6 +8,7 @@
 //! | `narrow` | bodies, their owners (link or obstacle) and the exact pair test and distance |
 //! | `walk` | the one walk over the checked pairs, shared by the boolean checks and the clearances |
 //! | [`disabled`] | which link pairs self-collision skips ([`DisabledPairs`]) |
+//! | [`fit`] | the capsule fitted around a mesh's convex hull ([`FittedCapsule`]) and its gap |
 //!
 //! # Pairs
 //! Self-collision is checked between link bodies of different rigid groups (links joined by
@@ -20,16 +21,20 @@
 //! # Speed
 //! Each body has a bounding ball; a pair is tested exactly only if the balls overlap. Spheres
 //! and capsules (the arms' shapes) are swept spheres: their exact test is a segment–segment
-//! distance (closed form, [`segment_distance_squared`]). Boxes and cylinders go to parry's
-//! `query::intersection_test` / `query::closest_points`. A [`CollisionWorkspace`] holds the link
+//! distance (closed form, [`segment_distance_squared`]). Boxes, cylinders and mesh hulls go to
+//! parry's `query::intersection_test` / `query::closest_points`. A mesh hull is checked as
+//! [`CollisionKind`] says: exactly, as its fitted capsule, or (the default) exactly only where
+//! its fitted capsule touches the other part's capsule. A [`CollisionWorkspace`] holds the link
 //! frames and posed bodies, sized once: no allocation per check.
 
 pub mod disabled;
+pub mod fit;
 mod narrow;
 pub mod scene;
 mod walk;
 
 pub use disabled::{collision_toml_path, DisabledPair, DisabledPairs};
+pub use fit::FittedCapsule;
 pub use narrow::segment_distance_squared;
 pub use scene::{ObstaclePose, SceneObstacle};
 
@@ -106,19 +111,91 @@ pub struct CollisionModel {
     self_pairs: Vec<(u16, u16)>,
     /// Mesh bodies (convex hulls) among `bodies`.
     n_meshes: usize,
+    /// The meshes' fitted capsules (in body order).
+    capsules: Vec<LinkCapsule>,
     /// Padding.
     settings: CollisionSettings,
 }
 
-/// Padding of the robot's collision bodies (m): every body of a link is grown by the link's
-/// padding (`link_padding`, else `padding`): a pair is in contact when the shapes are within
-/// the sum of their paddings. Scene obstacles and the rod are not padded.
+/// What is checked for a mesh's convex hull (`[robot] collision_model` of a rig).
+///
+/// | kind | a mesh is | answer |
+/// |---|---|---|
+/// | `hull` | its convex hull | exact for the hulls |
+/// | `primitives` | its fitted capsule ([`fit`]) | never free where the hulls touch; may report a contact up to the capsule's gap away from the hull |
+/// | `primitives_then_hull` (default) | the hull, tested only where the capsules touch | exactly the `hull` answer (the capsule contains the hull), faster |
+///
+/// Distances ([`CollisionModel::clearance`]) are those of the same shapes: the hulls under
+/// `hull` and `primitives_then_hull`, the capsules under `primitives`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CollisionKind {
+    /// The exact convex hulls.
+    Hull,
+    /// The fitted capsules only.
+    Primitives,
+    /// The capsules as a broad phase before the hulls.
+    #[default]
+    PrimitivesThenHull,
+}
+
+impl CollisionKind {
+    /// Every kind, in the order of [`CollisionKind::NAMES`].
+    pub const ALL: [CollisionKind; 3] = [
+        CollisionKind::Hull,
+        CollisionKind::Primitives,
+        CollisionKind::PrimitivesThenHull,
+    ];
+    /// The names a rig may write.
+    pub const NAMES: [&'static str; 3] = ["hull", "primitives", "primitives_then_hull"];
+
+    /// The name a rig writes.
+    pub fn name(self) -> &'static str {
+        match self {
+            CollisionKind::Hull => "hull",
+            CollisionKind::Primitives => "primitives",
+            CollisionKind::PrimitivesThenHull => "primitives_then_hull",
+        }
+    }
+
+    /// The kind of a name, if it is one of [`CollisionKind::NAMES`].
+    pub fn from_name(s: &str) -> Option<CollisionKind> {
+        Self::ALL.into_iter().find(|k| k.name() == s)
+    }
+}
+
+impl std::fmt::Display for CollisionKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Padding of the robot's collision bodies (m) and what is checked for meshes. Every body of a
+/// link is grown by the link's padding (`link_padding`, else `padding`): a pair is in contact
+/// when the shapes are within the sum of their paddings; a mesh's fitted capsule grows by the
+/// same padding as its hull. Scene obstacles and the rod are not padded.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CollisionSettings {
     /// Padding of every link (m, ≥ 0).
     pub padding: Real,
     /// Per-link padding (m, ≥ 0), overriding `padding`.
     pub link_padding: Vec<(String, Real)>,
+    /// What is checked for mesh hulls.
+    pub kind: CollisionKind,
+}
+
+/// A mesh's fitted capsule as the model uses it (link frame; radius with the link's padding).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinkCapsule {
+    /// The link (index into [`RobotModel::links`]).
+    pub link: usize,
+    /// Segment ends in the link frame.
+    pub a: Vec3,
+    /// The other end.
+    pub b: Vec3,
+    /// Radius (m): the fitted radius plus the link's padding.
+    pub radius: Real,
+    /// Largest gap of the unpadded capsule to its hull (m; [`fit::FittedCapsule::gap`]).
+    pub gap: Real,
 }
 
 impl CollisionSettings {
@@ -181,21 +258,34 @@ impl CollisionModel {
         settings.validate(model)?;
         let links = model.links();
         let mut bodies: Vec<Body> = Vec::new();
+        let mut capsules = Vec::new();
         for (li, l) in links.iter().enumerate() {
             let pad = settings.pad_of(&l.name);
             for c in &l.collision {
                 bodies.push(Body::new(Owner::Link(li), &c.shape, &c.origin).padded(pad));
             }
             for m in &l.meshes {
-                bodies.push(
-                    Body::hull(
-                        Owner::Link(li),
-                        m.mesh.hull.clone(),
-                        &m.mesh.hull_points,
-                        &m.origin,
-                    )
-                    .padded(pad),
+                let owner = Owner::Link(li);
+                let fit = &m.mesh.capsule;
+                let (a, b) = (
+                    m.origin.transform_point(&fit.a),
+                    m.origin.transform_point(&fit.b),
                 );
+                capsules.push(LinkCapsule {
+                    link: li,
+                    a,
+                    b,
+                    radius: fit.radius + pad,
+                    gap: fit.gap,
+                });
+                let hull =
+                    || Body::hull(owner, m.mesh.hull.clone(), &m.mesh.hull_points, &m.origin);
+                let body = match settings.kind {
+                    CollisionKind::Hull => hull(),
+                    CollisionKind::Primitives => Body::capsule(owner, a, b, fit.radius),
+                    CollisionKind::PrimitivesThenHull => hull().with_fit((a, b, fit.radius)),
+                };
+                bodies.push(body.padded(pad));
             }
         }
         if bodies.len() > u16::MAX as usize {
@@ -214,6 +304,7 @@ impl CollisionModel {
             chain: model.chain().clone(),
             link_names: links.iter().map(|l| l.name.clone()).collect(),
             n_meshes: links.iter().map(|l| l.meshes.len()).sum(),
+            capsules,
             settings: settings.clone(),
             bodies,
             obstacles: Vec::new(),
@@ -274,6 +365,22 @@ impl CollisionModel {
         ANNOUNCE.store(on, std::sync::atomic::Ordering::Relaxed);
     }
 
+    /// What is checked for mesh hulls.
+    pub fn kind(&self) -> CollisionKind {
+        self.settings.kind
+    }
+
+    /// The fitted capsule of every mesh, in body order (whatever the kind: under `hull` they are
+    /// not checked).
+    pub fn mesh_capsules(&self) -> &[LinkCapsule] {
+        &self.capsules
+    }
+
+    /// The largest gap of any mesh's fitted capsule (m; 0 without meshes).
+    pub fn largest_gap(&self) -> Real {
+        self.capsules.iter().map(|c| c.gap).fold(0.0, Real::max)
+    }
+
     /// Print [`CollisionModel::summary`] on stderr, once per process for each distinct text
     /// (a sweep that builds the same model many times says it once), unless turned off by
     /// [`CollisionModel::set_announce`].
@@ -291,7 +398,8 @@ impl CollisionModel {
     }
 
     /// One line saying what is checked: bodies (primitives, mesh hulls), self pairs, scene
-    /// obstacles, padding. Commands print it once on stderr.
+    /// obstacles, padding, and for a robot with meshes the collision model
+    /// ([`CollisionKind`]). Commands print it once on stderr.
     pub fn summary(&self) -> String {
         let pad = if self.settings.link_padding.is_empty() {
             format!("padding {} m", self.settings.padding)
@@ -302,8 +410,23 @@ impl CollisionModel {
                 self.settings.link_padding.len()
             )
         };
+        let meshes = if self.n_meshes == 0 {
+            String::new()
+        } else {
+            let how = match self.settings.kind {
+                CollisionKind::Hull => "checked exactly".to_string(),
+                CollisionKind::Primitives => format!(
+                    "checked as their fitted capsules (largest gap {:.3} m)",
+                    self.largest_gap()
+                ),
+                CollisionKind::PrimitivesThenHull => {
+                    "checked exactly where their fitted capsules touch".to_string()
+                }
+            };
+            format!("; collision_model {}: mesh hulls {how}", self.settings.kind)
+        };
         format!(
-            "collision: {} robot bodies ({} primitives, {} mesh convex hulls), {} self-collision body pairs, {} scene obstacles, {pad}",
+            "collision: {} robot bodies ({} primitives, {} mesh convex hulls), {} self-collision body pairs, {} scene obstacles, {pad}{meshes}",
             self.bodies.len(),
             self.bodies.len() - self.n_meshes,
             self.n_meshes,

@@ -5,7 +5,11 @@
 //! tested exactly only if the balls overlap. Spheres and capsules (the arms' shapes, and the rod)
 //! are swept spheres — a segment and a radius — and their exact test is a segment–segment
 //! distance (closed form, [`segment_distance_squared`]). Any other pair goes to parry:
-//! `query::intersection_test` for the test, `query::closest_points` for the distance.
+//! `query::intersection_test` for the test, `query::closest_points` for the distance. A body
+//! may carry a capsule that contains it (a mesh hull's fitted capsule, under
+//! `primitives_then_hull`): when both parts have a containing capsule (their swept-sphere form,
+//! a rod segment, or a fitted capsule), capsules that do not touch prove the pair free before
+//! parry is asked, and the answer is the same as without them.
 
 use super::BodyRef;
 use crate::math::{Iso3, Mat3, Real, Vec3};
@@ -51,6 +55,9 @@ pub(super) struct Body {
     pub(super) parry: SharedShape,
     /// Swept-sphere form (segment ends in the owner's frame and radius), if any.
     pub(super) ssv: Option<Ssv>,
+    /// A capsule containing the shape (owner's frame), tested before the shape: the broad
+    /// phase of a mesh hull (`primitives_then_hull`).
+    pub(super) fit: Option<Ssv>,
     /// Bounding ball: centre in the owner's frame.
     pub(super) center: Vec3,
     /// Bounding ball radius (padding included).
@@ -64,7 +71,8 @@ pub(super) struct Body {
 pub(super) struct Posed {
     /// Shape pose (set for bodies without a swept-sphere form).
     pub(super) pose: Frame,
-    /// Swept-sphere segment ends (set for bodies with one).
+    /// Swept-sphere segment ends (set for bodies with one, and for the containing capsule of
+    /// bodies with a `fit`).
     pub(super) a: Vec3,
     pub(super) b: Vec3,
     /// Bounding-ball centre.
@@ -111,10 +119,39 @@ impl Body {
             local,
             parry,
             ssv,
+            fit: None,
             center: origin.pos,
             radius: shape.bounding_radius(),
             pad: 0.0,
         }
+    }
+
+    /// The capsule of radius `r` around the segment `a`–`b` (owner's frame).
+    pub(super) fn capsule(owner: Owner, a: Vec3, b: Vec3, r: Real) -> Body {
+        let len = (b - a).norm();
+        let mid = 0.5 * (a + b);
+        let rot = if len < DEGENERATE_SEGMENT {
+            Mat3::identity()
+        } else {
+            z_to_axis(&((b - a) / len))
+        };
+        Body {
+            owner,
+            local: Frame::new(rot, mid),
+            parry: SharedShape::new(Capsule::new_z(0.5 * len, r)),
+            ssv: Some((a, b, r)),
+            fit: None,
+            center: mid,
+            radius: 0.5 * len + r,
+            pad: 0.0,
+        }
+    }
+
+    /// The body with a containing capsule `(a, b, r)` (owner's frame) as its broad phase: the
+    /// caller guarantees that the capsule contains the shape.
+    pub(super) fn with_fit(mut self, fit: Ssv) -> Body {
+        self.fit = Some(fit);
+        self
     }
 
     /// A convex hull (`points` its vertices in the shape's frame, `shape` the parry polyhedron)
@@ -132,6 +169,7 @@ impl Body {
             local: *origin,
             parry: shape,
             ssv: None,
+            fit: None,
             center: origin.transform_point(&c),
             // Rounding slack: the ball must never be tighter than the hull.
             radius: r * (1.0 + 1e-12) + 1e-12,
@@ -155,6 +193,10 @@ impl Body {
             p.b = f.transform_point(&b);
         } else {
             p.pose = f.mul(&self.local);
+            if let Some((a, b, _)) = self.fit {
+                p.a = f.transform_point(&a);
+                p.b = f.transform_point(&b);
+            }
         }
     }
 
@@ -212,6 +254,16 @@ impl Part<'_> {
         }
     }
 
+    /// A capsule containing the part, in the root frame: its swept-sphere form, or the fitted
+    /// capsule of a body with one.
+    #[inline]
+    fn capsule(&self) -> Option<Ssv> {
+        match *self {
+            Part::Body(b, p) => b.ssv.or(b.fit).map(|(_, _, r)| (p.a, p.b, r)),
+            Part::Segment(a, b, r) => Some((a, b, r)),
+        }
+    }
+
     /// Run `f` on the parry pose and shape.
     #[inline]
     fn with_parry<R>(&self, f: impl FnOnce(&Iso3, &dyn parry3d_f64::shape::Shape) -> R) -> R {
@@ -231,22 +283,27 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
         return false;
     }
     let pad = x.pad() + y.pad();
-    match (x.ssv(), y.ssv()) {
-        (Some((a1, b1, r1)), Some((a2, b2, r2))) => {
-            let rr = r1 + r2 + pad;
-            segment_distance_squared(&a1, &b1, &a2, &b2) <= rr * rr
+    if let (Some((a1, b1, r1)), Some((a2, b2, r2))) = (x.capsule(), y.capsule()) {
+        // Exact for two swept spheres; else a broad phase (the capsules contain the shapes).
+        let rr = r1 + r2 + pad;
+        let touch = segment_distance_squared(&a1, &b1, &a2, &b2) <= rr * rr;
+        if !touch || (x.ssv().is_some() && y.ssv().is_some()) {
+            return touch;
         }
-        _ if pad > 0.0 => x.with_parry(|i1, s1| {
+    }
+    if pad > 0.0 {
+        x.with_parry(|i1, s1| {
             y.with_parry(|i2, s2| {
                 !matches!(
                     query::closest_points(i1, s1, i2, s2, pad),
                     Ok(query::ClosestPoints::Disjoint)
                 )
             })
-        }),
-        _ => x.with_parry(|i1, s1| {
+        })
+    } else {
+        x.with_parry(|i1, s1| {
             y.with_parry(|i2, s2| query::intersection_test(i1, s1, i2, s2).unwrap_or(true))
-        }),
+        })
     }
 }
 
