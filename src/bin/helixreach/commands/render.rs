@@ -10,12 +10,16 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach render`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach plan --direction 0.6,0.79,0.12 --out trajectory.csv",
+    "$ helixreach render --trajectory trajectory.csv --out frames"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]
     pub rig: String,
     /// Trajectory CSV as `helixreach plan` writes it (a `phase` column is used when present).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub trajectory: PathBuf,
     /// N frames evenly in time instead of the default (s = 0, ¼, ½, ¾, 1 of s*, the end, every
     /// reconfiguration).
