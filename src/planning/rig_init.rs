@@ -133,9 +133,9 @@ fn num(x: Real) -> String {
 }
 
 fn abs_dir(flag: &str, p: &Path) -> Result<String> {
-    let c = p.canonicalize().map_err(|e| {
-        Error::invalid(flag, p.display(), format!("cannot resolve the path: {e}"))
-    })?;
+    let c = p
+        .canonicalize()
+        .map_err(|e| Error::invalid(flag, p.display(), format!("cannot resolve the path: {e}")))?;
     Ok(c.display().to_string())
 }
 
@@ -149,12 +149,7 @@ fn rig_text(
     origin: [Real; 3],
     note: &str,
 ) -> String {
-    let list = |v: &[String]| {
-        v.iter()
-            .map(|s| quoted(s))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let list = |v: &[String]| v.iter().map(|s| quoted(s)).collect::<Vec<_>>().join(", ");
     let mut t = String::new();
     t.push_str(&format!(
         "# A rig written by `helixreach rig init` for {robot}, tool link {tip}.\n\
@@ -201,7 +196,9 @@ fn rig_text(
     t.push_str(&format!("padding = {}\n", num(o.padding)));
     match srdf {
         Some(s) => t.push_str(&format!("srdf = {}\n", quoted(s))),
-        None => t.push_str("# srdf = \"/path/to/robot.srdf\"  (MoveIt <disable_collisions> pairs)\n"),
+        None => {
+            t.push_str("# srdf = \"/path/to/robot.srdf\"  (MoveIt <disable_collisions> pairs)\n")
+        }
     }
     t.push_str(&format!(
         "\n[tool]\n\
@@ -361,7 +358,11 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
             let starts = planner.start_configurations(RollMode::Fixed).len();
             let mut score = 0;
             for (d, s) in dirs.iter().zip(&s_ends) {
-                let s_end = if s.is_finite() { s * (1.0 + margin) } else { 1.0 };
+                let s_end = if s.is_finite() {
+                    s * (1.0 + margin)
+                } else {
+                    1.0
+                };
                 if planner.pointwise_valid_at(d, s_end, 0.0, RollMode::Fixed)? {
                     score += 1;
                 }
