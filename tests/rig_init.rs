@@ -327,4 +327,78 @@ fn a_6_dof_plan_says_reconfiguration_is_impossible() {
     )
     .unwrap();
     assert!(meta["s_reached"].as_f64().unwrap() > 0.0, "{meta}");
+    // `render` draws the 6-DOF plan: one frame row per default frame, each with the arm's
+    // self clearance.
+    let frames = dir.path().join("render");
+    let o = helixreach(&[
+        "render",
+        "--rig",
+        rig.to_str().unwrap(),
+        "--trajectory",
+        out.to_str().unwrap(),
+        "--views",
+        "iso",
+        "--out",
+        frames.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut rd = csv::Reader::from_path(frames.join("render_frames.csv")).unwrap();
+    let h = rd.headers().unwrap().clone();
+    let c = h.iter().position(|c| c == "self_m").unwrap();
+    let rows: Vec<csv::StringRecord> = rd.records().map(|r| r.unwrap()).collect();
+    assert!(rows.len() >= 2);
+    assert!(rows.iter().all(|r| r[c].parse::<Real>().unwrap() > 0.0));
+}
+
+/// `ik` on a 6-DOF arm: every solution printed holds the pose (FK), they are isolated
+/// (distinct), and they fall into at most 8 branches modulo 2π.
+#[test]
+fn ik_of_a_6_dof_arm_lists_its_branches() {
+    let a = arm("ur5");
+    let urdf = robots::urdf(a);
+    let pkg = robots::package_dir();
+    let o = helixreach(&[
+        "ik",
+        "--robot",
+        urdf.to_str().unwrap(),
+        "--tip",
+        a.tip,
+        "--package-path",
+        pkg.to_str().unwrap(),
+        "--pose",
+        "0.4,0.1,0.3,0,1,0,0",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut rd = csv::Reader::from_reader(&o.stdout[..]);
+    let rows: Vec<Vec<Real>> = rd
+        .records()
+        .map(|r| r.unwrap().iter().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() >= 2, "{} solutions", rows.len());
+    let model = robots::load(a);
+    let target = Vec3::new(0.4, 0.1, 0.3);
+    let mut branches: Vec<Vec<Real>> = Vec::new();
+    for r in &rows {
+        let q = &r[..6];
+        let fk = model.chain().tool_pose(q);
+        assert!((fk.pos - target).norm() < 1e-8, "{q:?}");
+        assert!(
+            (fk.rot.column(2) - Vec3::new(0.0, 0.0, -1.0)).norm() < 1e-8,
+            "{q:?}"
+        );
+        let b: Vec<Real> = q
+            .iter()
+            .map(|x| x.rem_euclid(std::f64::consts::TAU))
+            .collect();
+        let same = |c: &Vec<Real>| {
+            c.iter().zip(&b).all(|(x, y)| {
+                let d = (x - y).abs();
+                d.min(std::f64::consts::TAU - d) < 1e-6
+            })
+        };
+        if !branches.iter().any(same) {
+            branches.push(b);
+        }
+    }
+    assert!(branches.len() <= 8, "{} branches", branches.len());
 }
