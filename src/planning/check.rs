@@ -42,7 +42,7 @@ use crate::helix::discrete::fill_nodes;
 use crate::helix::Helix;
 use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
 use crate::planning::pose_path::PoseMap;
-use crate::planning::rig::{iso_from, tool_from_director, Rig};
+use crate::planning::rig::{iso_from, tool_from_director, Rig, RobotSpec};
 use crate::records::check::CheckRowRecord;
 use crate::records::trajectory::{joint_column, MOTOR_COLUMN};
 use crate::robot::collision::{BodyRef, Contact};
@@ -375,6 +375,9 @@ pub struct RowCheck {
     pub limit: Option<String>,
     /// The colliding pair (`a|b`) of each kind found at this row (self, scene, rod).
     pub contacts: Vec<String>,
+    /// Every link pair in self-collision at this row (`linkA|linkB`, URDF link names, the
+    /// earlier link on the chain first), in the collision model's walk order; empty when free.
+    pub self_pairs: Vec<String>,
     /// Smallest robot–scene distance (m), when clearance was asked.
     pub scene_clearance: Option<Real>,
     /// Smallest rod–robot distance (m, rod radius + clearance included), when clearance was
@@ -485,7 +488,30 @@ pub struct Checker {
     rig: Rig,
     model: RobotModel,
     collision: CollisionModel,
+    /// Built by [`Checker::for_robot`]: no rig (no scene, rod, motor or pose).
+    robot_only: bool,
 }
+
+/// The rig around a robot-only check: the robot alone (the clamp, rod and motor are never
+/// read, since a robot-only check refuses a direction and a motor column).
+const ROBOT_ONLY_RIG: &str = r#"
+name = "robot only"
+[robot]
+urdf = "-"
+tip_link = "-"
+[clamp]
+origin = [0.0, 0.0, 0.0]
+d1 = [1.0, 0.0, 0.0]
+d3 = [0.0, 0.0, 1.0]
+[rod]
+length = 1.0
+radius = 0.001
+youngs_modulus = 1.0
+poisson = 0.3
+density = 1.0
+[motor]
+max_velocity = 1.0
+"#;
 
 impl Checker {
     /// Load the rig's robot and scene. Errors name the rig file.
@@ -498,7 +524,35 @@ impl Checker {
             rig,
             model,
             collision,
+            robot_only: false,
         })
+    }
+
+    /// A checker of the robot alone, without a rig (`helixreach check --robot`): joint limits,
+    /// self-collision (the pairs [`RobotSpec::collision_model`] checks: the robot's own
+    /// never-colliding list and `spec`'s SRDF skipped, `spec`'s padding), joint steps and the
+    /// segments between rows, and for a timed file the URDF speed limits. There is no scene,
+    /// rod, motor or pose: [`CheckOptions::direction`] and a `motor` column are refused, and
+    /// accelerations are not gated (a URDF has no acceleration limits). Errors name the URDF.
+    pub fn for_robot(spec: RobotSpec) -> Result<Checker> {
+        let mut rig = Rig::from_toml_str(ROBOT_ONLY_RIG, "robot only", Path::new("."))?;
+        let source = format!("robot {}", spec.urdf);
+        rig.name = "robot only".into();
+        rig.robot = spec;
+        rig.source = source;
+        let model = rig.robot.load_model(&rig.source)?;
+        let collision = rig.robot.collision_model(&model, &[], &rig.source)?;
+        Ok(Checker {
+            rig,
+            model,
+            collision,
+            robot_only: true,
+        })
+    }
+
+    /// Whether this checker has no rig ([`Checker::for_robot`]).
+    pub fn robot_only(&self) -> bool {
+        self.robot_only
     }
 
     /// The same robot and scene with another rig of the same robot (e.g. the clamp moved by
@@ -510,6 +564,7 @@ impl Checker {
             rig,
             model: self.model.clone(),
             collision,
+            robot_only: false,
         })
     }
 
@@ -674,6 +729,23 @@ pub fn check_trajectory(
         ));
     }
     crate::error::require_finite("azimuth", opt.azimuth)?;
+    if checker.robot_only {
+        if let Some(d) = opt.direction {
+            return Err(Error::invalid(
+                "direction",
+                format!("({}, {}, {})", d.kappa, d.tau, d.omega),
+                "a robot-only check has no rig (no clamp, rod or pose curve): give a rig",
+            ));
+        }
+        if traj.motor.is_some() {
+            return Err(Error::File {
+                path: traj.path.clone(),
+                reason: "has a motor column; a robot-only check has no rig motor to check it \
+                         against: give a rig"
+                    .into(),
+            });
+        }
+    }
     if opt.held_edges > MAX_HELD_EDGES {
         return Err(Error::invalid(
             "held_edges",
@@ -759,6 +831,7 @@ pub fn check_trajectory(
             joint_step: 0.0,
             limit: None,
             contacts: Vec::new(),
+            self_pairs: Vec::new(),
             scene_clearance: None,
             rod_clearance: None,
         };
@@ -870,6 +943,18 @@ pub fn check_trajectory(
                 }),
             }
         }
+        if let Some(c) = &found[0] {
+            let links = model.links();
+            row.self_pairs = cm
+                .self_collisions(&ws)
+                .into_iter()
+                .map(|(a, b)| format!("{}|{}", links[a.min(b)].name, links[a.max(b)].name))
+                .collect();
+            if row.self_pairs.is_empty() {
+                row.self_pairs
+                    .push(format!("{}|{}", cm.name(c.a), cm.name(c.b)));
+            }
+        }
         rep.self_collisions += found[0].is_some() as usize;
         rep.scene_collisions += found[1].is_some() as usize;
         rep.rod_collisions += found[2].is_some() as usize;
@@ -910,6 +995,11 @@ pub fn check_trajectory(
         rep.acceleration_violations = rates.acceleration_rows;
         rep.max_velocity_ratio = rates.max_velocity;
         rep.max_acceleration_ratio = rates.max_acceleration;
+        if checker.robot_only {
+            // No acceleration limits without a rig.
+            rep.acceleration_violations = 0;
+            rep.max_acceleration_ratio = None;
+        }
     }
     pairs.sort_by(|x, y| x.kind.cmp(&y.kind).then(x.first_row.cmp(&y.first_row)));
     rep.pairs = pairs;
@@ -1117,7 +1207,8 @@ impl CheckReport {
     }
 
     /// The per-row CSV: `row,line,s,position_error,rotation_error,joint_step,limit,contacts,
-    /// scene_clearance,rod_clearance` (empty fields where not computed; contacts `a|b`
+    /// scene_clearance,rod_clearance,self_collision,self_pairs` (empty fields where not
+    /// computed; `self_collision` 0 or 1, `self_pairs` every self-colliding link pair; contacts `a|b`
     /// separated by `;`; a [`CheckRowRecord`] each).
     pub fn rows_csv(&self) -> Result<String> {
         let rows: Vec<CheckRowRecord<'_>> = self
@@ -1135,6 +1226,8 @@ impl CheckReport {
                 contacts: r.contacts.join(";"),
                 scene_clearance: r.scene_clearance,
                 rod_clearance: r.rod_clearance,
+                self_collision: u8::from(!r.self_pairs.is_empty()),
+                self_pairs: r.self_pairs.join(";"),
             })
             .collect();
         crate::records::csv_out::to_csv(&rows)

@@ -3,6 +3,7 @@
 //! | module | holds |
 //! |---|---|
 //! | [`rig`] | the rig TOML schema, its validation, embedded rigs |
+//! | [`rig_init`] | a first commented rig for any URDF arm, the clamp placed where it holds the rod |
 //! | [`pose_path`] | a ray (S̄, α) as rod-end poses in the base frame, adaptive in s |
 //! | [`ladder`] | the layered graph of IK solutions and its forward dynamic programming |
 //! | [`planner`] | rungs of IK solutions (track mode), pruning, edges, reconfiguration, the plan of one ray |
@@ -31,6 +32,7 @@ pub mod ladder;
 pub mod planner;
 pub mod pose_path;
 pub mod rig;
+pub mod rig_init;
 pub mod rig_write;
 pub mod search;
 pub mod self_motion;

@@ -152,6 +152,28 @@
 //! ≤ 0.003, 9 less: by ≤ 0.05 except two by 0.55 and 0.47, 10 % of their s), 7 report another
 //! cause. CPU 268 → 47 s (`--threads 1`, user + sys, same load).
 //!
+//! # What the planner assumes of the arm
+//! - A serial chain from the URDF root to the rig's tip link: revolute, continuous or
+//!   prismatic joints (mimic joints follow their leader), at most `MAX_DOF` = 7, with finite
+//!   position and velocity limits; any link names and geometry (primitives or meshes).
+//! - **7 joints** (Sawyer, Panda, iiwa, xArm7, any 7-joint chain): the straight rod's pose has
+//!   a 1-D self-motion. Its redundancy parameter is joint 0 (the spawns of a
+//!   thin rung, the pointwise gate's grid lock it); start components are found by self-motion
+//!   walks; reconfiguration at a held pose walks the self-motion. Nothing else is assumed of
+//!   the joint layout (no spherical wrist, no offsets).
+//! - **Fewer joints** (6-DOF: UR3/5/10, Jaco2): at a full pose (roll `fixed`) the IK solutions
+//!   are isolated branches (and their 2π turns where a joint's range allows). Every valid
+//!   solution of the straight rod found by the free IK runs is its own start component, so
+//!   every IK branch is a start (the first rung holds the `redundancy_samples` most diverse;
+//!   a ray that is not testable from it is planned again from each further one). There is no
+//!   self-motion: rungs are not widened by spawns, the gate samples only free IK runs, and
+//!   reconfiguration is impossible ([`Planner::reconfiguration`]; `plan` and `reach` say so).
+//!   A path that would need to change branch mid-ray stops (`discontinuity`). In roll `motor`
+//!   a 6-joint arm has the 1-D roll self-motion at a pose; the planner tracks it but does not
+//!   walk it (no reconfiguration, no joining of start components).
+//! - IK is numerical (box-constrained Levenberg–Marquardt from random restarts,
+//!   [`crate::robot::ik`]): a branch none of the restarts converges to is missed.
+//!
 //! # Result
 //! The farthest s reached, the class (testable: the whole path to s*·(1 + margin); partial:
 //! stopped after s = 0; blocked: cannot leave the straight rod), the blocking cause (the
@@ -183,6 +205,37 @@ const MAX_RECONFIGURATIONS: usize = 64;
 
 /// Most samples of one self-motion walk (one direction from one node).
 const MAX_WALK_SAMPLES: usize = 2_000;
+
+/// Whether a planner may reconfigure the arm at a held pose ([`Planner::reconfiguration`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reconfiguration {
+    /// A 7-joint arm, the rig allows it.
+    Allowed,
+    /// A 7-joint arm, the rig (or `--no-reconfiguration`) forbids it.
+    Forbidden,
+    /// Not 7 joints: the straight rod's pose has no self-motion to walk, so no plan
+    /// reconfigures; every IK branch of the straight rod is a start instead.
+    Impossible {
+        /// The arm's joints.
+        dof: usize,
+    },
+}
+
+impl std::fmt::Display for Reconfiguration {
+    /// `allowed`, `forbidden by the rig`, or `impossible (6 joints: no self-motion; every IK
+    /// branch of the straight rod is a start)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Reconfiguration::Allowed => f.write_str("allowed"),
+            Reconfiguration::Forbidden => f.write_str("forbidden by the rig"),
+            Reconfiguration::Impossible { dof } => write!(
+                f,
+                "impossible ({dof} joints: no self-motion; every IK branch of the straight rod \
+                 is a start)"
+            ),
+        }
+    }
+}
 
 /// Reachability class of a ray. The one class type: records read and write it by serde (the
 /// [`ReachClass::as_str`] names).
@@ -507,6 +560,19 @@ impl Planner {
     /// The robot model.
     pub fn model(&self) -> &RobotModel {
         &self.model
+    }
+
+    /// Whether this rig's plans may reconfigure at a held pose (module docs, "What the planner
+    /// assumes of the arm"): impossible without 7 joints (no self-motion), else as the rig's
+    /// `planner.allow_reconfiguration` says.
+    pub fn reconfiguration(&self) -> Reconfiguration {
+        if self.dof != 7 {
+            Reconfiguration::Impossible { dof: self.dof }
+        } else if self.rig.planner.allow_reconfiguration {
+            Reconfiguration::Allowed
+        } else {
+            Reconfiguration::Forbidden
+        }
     }
 
     /// The collision model (robot + the rig's scene).
@@ -1314,8 +1380,10 @@ impl Planner {
         for &i in order.iter() {
             try_node(&prev[i], None, &mut nodes, sc);
         }
-        // Spawn next to the cheapest survivors when the rung is thin.
-        if nodes.len() < width {
+        // Spawn next to the cheapest survivors when the rung is thin; only along a self-motion
+        // (an arm without one, e.g. 6 joints in roll `fixed`, has no neighbouring solution to
+        // spawn, and its failed locked tracks would be counted as causes).
+        if nodes.len() < width && self.dof > target.dimension() {
             let j = self.red_joint;
             'spawn: for &i in order.iter() {
                 for sign in [1.0, -1.0] {

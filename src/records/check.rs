@@ -34,6 +34,10 @@ pub struct CheckRowRecord<'a> {
     /// Smallest rod–robot distance (m).
     #[serde(serialize_with = "csv_out::opt_real")]
     pub rod_clearance: Option<Real>,
+    /// 1 when the robot is in self-collision at this row, else 0.
+    pub self_collision: u8,
+    /// Every link pair in self-collision (`linkA|linkB`, URDF link names), separated by `;`.
+    pub self_pairs: String,
 }
 
 impl CsvRecord for CheckRowRecord<'_> {
@@ -48,6 +52,8 @@ impl CsvRecord for CheckRowRecord<'_> {
         "contacts",
         "scene_clearance",
         "rod_clearance",
+        "self_collision",
+        "self_pairs",
     ];
 }
 
@@ -69,6 +75,8 @@ mod tests {
             contacts: "right_l1|right_l4;rod|table".into(),
             scene_clearance: Some(0.2),
             rod_clearance: None,
+            self_collision: 1,
+            self_pairs: "right_l1|right_l4;right_l1|right_l5".into(),
         };
         assert_eq!(field_names(&r).unwrap(), CheckRowRecord::HEADER);
         assert_eq!(
@@ -83,7 +91,9 @@ mod tests {
                 "",
                 "right_l1|right_l4;rod|table",
                 "0.2",
-                ""
+                "",
+                "1",
+                "right_l1|right_l4;right_l1|right_l5"
             ]
         );
     }

@@ -109,6 +109,24 @@ impl IkTarget {
         })
     }
 
+    /// The number of task coordinates the target fixes: 6 for a pose, 5 for a position + axis
+    /// (the roll is free). An arm with more joints than this has self-motion at the target (a
+    /// 7-DOF arm at a pose: one dimension; a 6-DOF arm at a free-roll target: one); an arm
+    /// with no more has isolated solutions (IK branches), and locking a joint leaves it fewer
+    /// joints than the target needs.
+    ///
+    /// ```
+    /// use helixreach::robot::{Frame, IkTarget};
+    /// let t = IkTarget::pose(Frame::identity()).unwrap();
+    /// assert_eq!((t.dimension(), t.free_roll().dimension()), (6, 5));
+    /// ```
+    pub fn dimension(&self) -> usize {
+        match self {
+            IkTarget::Pose(_) => 6,
+            IkTarget::Axis { .. } => 5,
+        }
+    }
+
     /// The same target with the roll freed (pose → its position and tool z axis).
     pub fn free_roll(&self) -> IkTarget {
         match *self {
@@ -378,6 +396,9 @@ impl<'a> IkSolver<'a> {
 
     /// Every distinct solution found (see the module docs), deterministic order: first the
     /// solutions with the redundancy joint locked at each sampled value, then the free ones.
+    /// An arm without self-motion at the target (no more joints than
+    /// [`IkTarget::dimension`]: a 6-DOF arm at a pose) has isolated solutions, one per IK
+    /// branch (and per 2π turn of a joint whose range allows it): only the free runs are made.
     pub fn solve_all(&self, target: &IkTarget, seeds: &[&[Real]]) -> Vec<IkSolution> {
         let tol = self.params.dedup_tolerance;
         let push = |sol: IkSolution, out: &mut Vec<IkSolution>| {
@@ -408,6 +429,11 @@ impl<'a> IkSolver<'a> {
         let Some(j) = self.params.redundancy_joint else {
             return free;
         };
+        // No self-motion (e.g. a 6-DOF arm at a pose): the solutions are isolated branches,
+        // all of them found by the free runs; a locked joint would leave too few joints.
+        if self.model.dof() <= target.dimension() {
+            return free;
+        }
         // Phase 2: lock joint j at values spread over the span the free solutions reached (or
         // the caller's values), seeded from the nearest free solutions.
         let values: Vec<Real> = if !self.params.lock_values.is_empty() {

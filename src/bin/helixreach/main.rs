@@ -51,6 +51,8 @@ enum Command {
     Ik(commands::ik::Args),
     /// Print a robot's chain, limits and collision bodies.
     Robot(commands::robot::Args),
+    /// Rig files: `rig init` writes a commented rig for a URDF arm.
+    Rig(commands::rig::Args),
     /// Plan the joint + motor trajectory of one ray on a rig.
     Plan(commands::plan::Args),
     /// Validate a joint trajectory on a rig: limits, collisions, steps, pose error.
@@ -157,6 +159,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Fk(a) => commands::fk::run(a),
         Command::Ik(a) => commands::ik::run(a),
         Command::Robot(a) => commands::robot::run(a),
+        Command::Rig(a) => commands::rig::run(a),
         Command::Plan(a) => commands::plan::run(a),
         Command::Check(a) => commands::check::run(a),
         Command::Reach(a) => commands::reach::run(a),

@@ -205,7 +205,9 @@ impl Planner {
                 return Ok(true);
             }
         }
-        if cand.is_empty() {
+        // No self-motion at this target (a 6-DOF arm in roll `fixed`): the free runs found
+        // the isolated IK branches; a locked joint would leave too few joints.
+        if cand.is_empty() || self.dof <= target.dimension() {
             return Ok(false);
         }
         let j = self.red_joint;

@@ -1,6 +1,9 @@
 //! `helixreach check`: validate an existing joint trajectory on a rig (joint limits, self / scene
 //! / rod collision, joint steps and jumps, pose error against the ray's pose curve). The logic is
-//! `helixreach::planning::check`. Prints a JSON summary on stdout; `--out` writes the per-row CSV.
+//! `helixreach::planning::check`. Prints a JSON summary on stdout; `--out` writes the per-row CSV
+//! (`self_collision` 0/1 and `self_pairs`, every self-colliding link pair, among its columns).
+//! `--robot URDF` (with `--tip`, `--package-path`, `--srdf`, `--padding`) checks a robot without a
+//! rig: limits, self-collision, steps and the URDF speeds (`Checker::for_robot`).
 //!
 //! # A gate
 //! Exit 0 when nothing is found; 2 on bad input; otherwise 64 + a bit per kind of finding
@@ -21,7 +24,8 @@ use anyhow::Context;
 use helixreach::directions::Direction;
 use helixreach::io::Output;
 use helixreach::planning::check::{CheckOptions, Checker};
-use helixreach::planning::rig::{parse_xyz, Rig};
+use helixreach::planning::rig::{parse_xyz, Rig, RobotSpec};
+use helixreach::robot::collision::{CollisionSettings, MAX_PADDING};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -41,6 +45,23 @@ pub struct Args {
     // `--joints FILE`: the earlier spelling, kept as a hidden alias (`--joints` now means values).
     #[arg(long, value_name = "FILE", alias = "joints")]
     pub trajectory: PathBuf,
+    /// Check a robot without a rig: a URDF file or a built-in robot (sawyer, panda, iiwa14).
+    /// Joint limits, self-collision, steps and the URDF speed limits; no scene, rod, motor,
+    /// pose or acceleration limits.
+    #[arg(long, conflicts_with_all = ["rig", "direction", "azimuth", "clamp"])]
+    pub robot: Option<String>,
+    /// With --robot: the tool link, which fixes the chain and its joints (default: the robot's).
+    #[arg(long, requires = "robot")]
+    pub tip: Option<String>,
+    /// With --robot: mesh search paths and links without collision geometry.
+    #[command(flatten)]
+    pub load: super::args::RobotLoadArgs,
+    /// With --robot: a MoveIt SRDF whose <disable_collisions> pairs are not checked.
+    #[arg(long, requires = "robot")]
+    pub srdf: Option<PathBuf>,
+    /// With --robot: padding of every collision body (m).
+    #[arg(long, requires = "robot", default_value_t = 0.0)]
+    pub padding: f64,
     /// The ray's direction `κ,τ,ω` (normalized): enables the pose error and the rod check.
     #[arg(long, allow_hyphen_values = true)]
     pub direction: Option<String>,
@@ -83,14 +104,57 @@ pub struct Args {
 /// Run `helixreach check`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let out = args.out.as_ref().map(|o| {
-        Output::new(o)
+        let mut o = Output::new(o)
             .force(args.force)
             .input(&args.trajectory)
-            .input(std::path::Path::new(&args.rig))
+            .input(std::path::Path::new(&args.rig));
+        if let Some(r) = &args.robot {
+            o = o.input(std::path::Path::new(r));
+        }
+        if let Some(s) = &args.srdf {
+            o = o.input(s);
+        }
+        o
     });
     if let Some(o) = &out {
         o.check()?;
     }
+    let (checker, direction, azimuth) = match &args.robot {
+        Some(robot) => (robot_checker(&args, robot)?, None, 0.0),
+        None => rig_checker(&args)?,
+    };
+    finish(&args, out.as_ref(), &checker, direction, azimuth)
+}
+
+/// The checker of `--robot` (no rig).
+fn robot_checker(args: &Args, robot: &str) -> anyhow::Result<Checker> {
+    let tip = match &args.tip {
+        Some(t) => t.clone(),
+        None => args.load.load(robot, None)?.tip_link().to_string(),
+    };
+    let spec = RobotSpec {
+        urdf: robot.to_string(),
+        dir: PathBuf::from("."),
+        tip_link: tip,
+        package_paths: args.load.package_path.clone(),
+        no_collision: args.load.no_collision.clone(),
+        collision: CollisionSettings {
+            padding: args.padding,
+            link_padding: Vec::new(),
+        },
+        srdf: args.srdf.clone(),
+    };
+    if !(args.padding.is_finite() && (0.0..=MAX_PADDING).contains(&args.padding)) {
+        anyhow::bail!(
+            "--padding {}: must be finite, in 0..={MAX_PADDING} m",
+            args.padding
+        );
+    }
+    Ok(Checker::for_robot(spec)?)
+}
+
+/// The checker of `--rig` (with `--clamp`), the direction and the azimuth.
+fn rig_checker(args: &Args) -> anyhow::Result<(Checker, Option<Direction>, f64)> {
     let mut rig = Rig::load(&args.rig)?;
     if let Some(c) = &args.clamp {
         rig = rig
@@ -107,14 +171,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let azimuth = args
         .azimuth
         .unwrap_or_else(|| rig.azimuths.first().copied().unwrap_or(0.0));
-    let checker = Checker::new(rig)?;
+    Ok((Checker::new(rig)?, direction, azimuth))
+}
+
+/// Check the trajectory, write the rows, print the summary; the verdict.
+fn finish(
+    args: &Args,
+    out: Option<&Output>,
+    checker: &Checker,
+    direction: Option<Direction>,
+    azimuth: f64,
+) -> anyhow::Result<()> {
     let traj = checker.read(&args.trajectory)?;
     status!(
-        "checking {} rows of {} ({}) on rig {}",
+        "checking {} rows of {} ({}) on {}",
         traj.rows(),
         args.trajectory.display(),
         traj.format,
-        checker.rig().name
+        if checker.robot_only() {
+            format!("robot {} (no rig)", checker.model().name())
+        } else {
+            format!("rig {}", checker.rig().name)
+        }
     );
     let opt = CheckOptions {
         direction,
@@ -129,7 +207,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         rotation_tolerance: positive("--rotation-tolerance", args.rotation_tolerance)?,
     };
     let rep = checker.check(&traj, &opt)?;
-    if let Some(out) = &out {
+    if let Some(out) = out {
         out.write(rep.rows_csv()?.as_bytes())?;
     }
     let mut stdout = std::io::stdout().lock();

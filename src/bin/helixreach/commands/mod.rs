@@ -40,6 +40,7 @@ pub mod plan;
 pub mod plot;
 pub mod reach;
 pub mod render;
+pub mod rig;
 pub mod robot;
 pub mod rod;
 pub mod rod_args;

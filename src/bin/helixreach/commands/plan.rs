@@ -153,13 +153,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Err(super::Verdict {
             code: super::EXIT_NOT_TESTABLE,
             message: format!(
-                "{}: the robot drives the ray to s = {} of its target {} (s* = {}, cause {}); \
-                 nothing written (--allow-partial writes the trajectory as far as it goes)",
+                "{}: the robot drives the ray to s = {} of its target {} (s* = {}, cause {}; \
+                 reconfiguration {}); nothing written (--allow-partial writes the trajectory as \
+                 far as it goes)",
                 plan.class.as_str(),
                 plan.s_reached,
                 plan.s_end,
                 plan.s_star,
                 plan.cause.map_or("-", |c| c.as_str()),
+                planner.reconfiguration(),
             ),
         }
         .into());
@@ -182,7 +184,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     status!(
         "{}: s* = {}, s_reached = {} of {} (bifurcation assumed: {assumed}) ({} of {} waypoints), \
-         cause {}, azimuth {}, roll {}, {} reconfigurations, {} back-offs, cost {:.4}, max joint step {:.4} rad, \
+         cause {}, azimuth {}, roll {}, {} reconfigurations (reconfiguration {}), {} back-offs, cost {:.4}, max joint step {:.4} rad, \
          duration {:.1} s (load, hold, unload); planned in {:.3} s",
         plan.class.as_str(),
         plan.s_star,
@@ -194,6 +196,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         plan.azimuth,
         plan.roll,
         plan.reconfigurations,
+        planner.reconfiguration(),
         plan.backoffs,
         plan.path_cost,
         plan.max_joint_step,

@@ -72,6 +72,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
     };
     let planner = Planner::new(rig)?;
+    eprintln!(
+        "reconfiguration at a held pose: {}",
+        planner.reconfiguration()
+    );
     let table = match &args.boundary {
         Some(p) => Some(BoundaryTable::read(p)?),
         None => None,
