@@ -154,7 +154,6 @@ fn rig_init_writes_rigs_that_reach_accepts_for_a_6_and_a_7_dof_arm() {
             "--quarter",
             "--threads",
             "1",
-            "--quiet",
             "--out",
             csv.to_str().unwrap(),
         ]);

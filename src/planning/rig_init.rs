@@ -194,6 +194,14 @@ fn rig_text(
          # [robot.link_padding] NAME = m.\n",
     );
     t.push_str(&format!("padding = {}\n", num(o.padding)));
+    t.push_str(&format!(
+        "# What is checked for a mesh: `hull` (its exact convex hull), `primitives` (a capsule\n\
+         # fitted around the hull: fast, never misses a hull contact, may report more) or\n\
+         # `primitives_then_hull` (the capsules first, the hulls only where they touch: the\n\
+         # hull model's answer, faster).\n\
+         collision_model = {}\n",
+        quoted(crate::robot::collision::CollisionKind::default().name())
+    ));
     match srdf {
         Some(s) => t.push_str(&format!("srdf = {}\n", quoted(s))),
         None => {

@@ -141,6 +141,7 @@ fn robot_checker(args: &Args, robot: &str) -> anyhow::Result<Checker> {
         collision: CollisionSettings {
             padding: args.padding,
             link_padding: Vec::new(),
+            kind: Default::default(),
         },
         srdf: args.srdf.clone(),
     };

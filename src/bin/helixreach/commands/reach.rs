@@ -72,7 +72,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
     };
     let planner = Planner::new(rig)?;
-    eprintln!(
+    status!(
         "reconfiguration at a held pose: {}",
         planner.reconfiguration()
     );

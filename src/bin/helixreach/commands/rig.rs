@@ -10,6 +10,11 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach rig`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach rig init --robot panda --tip fer_link8 --out panda_rig.toml",
+    "$ helixreach reach --rig panda_rig.toml --fibonacci 4 --quarter --out reach.csv",
+    "> helixreach rig init --robot my_arm.urdf --tip tool0 --package-path ~/ws/src --out my_rig.toml"
+))]
 pub struct Args {
     #[command(subcommand)]
     pub command: RigCommand,
@@ -25,6 +30,11 @@ pub enum RigCommand {
 
 /// Arguments of `helixreach rig init`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach rig init --robot panda --tip fer_link8 --out panda_rig.toml",
+    "$ helixreach reach --rig panda_rig.toml --fibonacci 4 --quarter --out reach.csv",
+    "> helixreach rig init --robot my_arm.urdf --tip tool0 --package-path ~/ws/src --out my_rig.toml"
+))]
 pub struct InitArgs {
     /// URDF file, or a built-in robot: sawyer, panda, iiwa14.
     #[arg(long)]
@@ -105,7 +115,7 @@ fn init(args: InitArgs) -> anyhow::Result<()> {
     let r = rig_init(&opts, &dir)?;
     out.write(r.text.as_bytes())?;
     let c = &r.candidates[r.chosen];
-    eprintln!(
+    status!(
         "rig init: {} joints; clamp at [{}, {}, {}] (reach {:.3} m from [{:.3}, {:.3}, {:.3}]), \
          {} start configurations, {} of {SCORE_DIRECTIONS} quarter-sphere end poses held \
          (best of {} candidates){}{}",
