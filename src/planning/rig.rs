@@ -140,7 +140,7 @@ pub struct RobotSpec {
     /// Padding of the robot's collision bodies (`[robot] padding`, `[robot.link_padding]`) and
     /// what is checked for mesh hulls (`[robot] collision_model`: `hull`, `primitives` or
     /// `primitives_then_hull`, the default; see
-    /// [`CollisionKind`](crate::robot::collision::CollisionKind)).
+    /// [`CollisionKind`]).
     pub collision: CollisionSettings,
     /// A MoveIt SRDF whose `<disable_collisions>` pairs are skipped (`[robot] srdf`, relative
     /// to the rig file), besides the robot's own never-colliding list.
