@@ -21,9 +21,9 @@
 //!   (`s_i` the vertex's position along the axis, `ρ_i` its distance from the line); the volume
 //!   is minimised over `r` by a 24-point scan and a golden-section refinement.
 //!
-//! Cost: O(n) per evaluated axis (n hull vertices), one to two hundred axes; with the gap below,
-//! 10–90 ms per mesh on the vendored arms (75 to 1,500 hull vertices), paid once when the mesh
-//! is loaded.
+//! Cost: O(n) per evaluated axis (n hull vertices), one to two hundred axes, plus the gap below
+//! (a few thousand point–hull distances): tens of milliseconds for a hull of a thousand
+//! vertices, paid once when the mesh is loaded.
 //!
 //! # The gap
 //! [`FittedCapsule::gap`] is the largest distance from a point of the capsule to the hull (the
