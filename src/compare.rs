@@ -158,6 +158,15 @@ pub fn read_measured(path: &Path) -> Result<MeasuredSet> {
     Ok(MeasuredSet { rows, notes })
 }
 
+/// Whether `a` and `b` are the same ray (largest component difference ≤ [`MATCH_TOL`]).
+fn same_ray(a: &Direction, b: &Direction) -> bool {
+    (a.kappa - b.kappa)
+        .abs()
+        .max((a.tau - b.tau).abs())
+        .max((a.omega - b.omega).abs())
+        <= MATCH_TOL
+}
+
 /// For each measured direction, the boundary value of the same direction in `boundary`
 /// (`(direction, s*)` pairs), or `None` when absent or infinite.
 pub fn match_boundary(measured: &[Measured], boundary: &[(Direction, Real)]) -> Vec<Option<Real>> {
@@ -166,14 +175,28 @@ pub fn match_boundary(measured: &[Measured], boundary: &[(Direction, Real)]) -> 
         .map(|m| {
             boundary
                 .iter()
-                .find(|(d, _)| {
-                    (d.kappa - m.dir.kappa)
-                        .abs()
-                        .max((d.tau - m.dir.tau).abs())
-                        .max((d.omega - m.dir.omega).abs())
-                        <= MATCH_TOL
-                })
+                .find(|(d, _)| same_ray(d, &m.dir))
                 .and_then(|(_, s)| s.is_finite().then_some(*s))
+        })
+        .collect()
+}
+
+/// For each measured direction, whether `boundary` has a row on it (whatever its value), and
+/// the angle (rad) to the nearest boundary direction: what tells a boundary computed on another
+/// direction set (no measured direction in it) from one with infinite or missing values.
+pub fn boundary_rows_on(measured: &[Measured], boundary: &[Direction]) -> Vec<(bool, Real)> {
+    measured
+        .iter()
+        .map(|m| {
+            let on = boundary.iter().any(|d| same_ray(d, &m.dir));
+            let nearest = boundary
+                .iter()
+                .map(|d| {
+                    let dot = d.kappa * m.dir.kappa + d.tau * m.dir.tau + d.omega * m.dir.omega;
+                    dot.clamp(-1.0, 1.0).acos()
+                })
+                .fold(Real::INFINITY, Real::min);
+            (on, nearest)
         })
         .collect()
 }

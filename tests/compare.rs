@@ -234,7 +234,10 @@ fn cli_boundary_file_lists_directions_without_a_value() {
     assert_eq!(j["missing"][0]["line"], 3);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("m.csv:3") && err.contains("no simulated boundary"),
+        err.contains("m.csv:3")
+            && err.contains("no simulated boundary")
+            && err.contains("not in")
+            && err.contains("b.csv"),
         "{err}"
     );
     let text = std::fs::read_to_string(&out).unwrap();
@@ -258,4 +261,73 @@ fn cli_boundary_file_lists_directions_without_a_value() {
         err.contains("bad.csv:2") && err.contains("s_measured"),
         "{err}"
     );
+}
+
+/// A boundary computed on other directions matches no measured row: refused, naming both files
+/// and the way out, nothing written; the boundary on the measured directions then compares.
+#[test]
+fn cli_boundary_on_other_directions_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let meas = write(
+        &dir,
+        "m.csv",
+        "dir_kappa,dir_tau,dir_omega,s_measured\n1,0,0,6.3\n0.6,0.8,0,7.1\n",
+    );
+    let run = |args: &[&str]| {
+        Command::new(BIN)
+            .current_dir(dir.path())
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let o = run(&[
+        "--quiet",
+        "boundary",
+        "--fibonacci",
+        "7",
+        "--out",
+        "fib.csv",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = run(&[
+        "compare",
+        "--measured",
+        meas.to_str().unwrap(),
+        "--boundary",
+        "fib.csv",
+        "--out",
+        "c.csv",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("fib.csv holds none of the 2 directions of")
+            && err.contains("m.csv")
+            && err.contains("--directions"),
+        "{err}"
+    );
+    assert!(o.stdout.is_empty());
+    assert!(!dir.path().join("c.csv").exists());
+    // What the error suggests works.
+    let o = run(&[
+        "--quiet",
+        "boundary",
+        "--directions",
+        meas.to_str().unwrap(),
+        "--out",
+        "on.csv",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = run(&[
+        "compare",
+        "--measured",
+        meas.to_str().unwrap(),
+        "--boundary",
+        "on.csv",
+        "--out",
+        "c.csv",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["count"], 2);
 }

@@ -5,7 +5,9 @@
 //! `dir_kappa,dir_tau,dir_omega,s_measured,s_sim,err,signed_diff`, rows in the order of the
 //! measured file) and prints the JSON summary (count, mean, max, population std of err, mean
 //! signed difference, and the directions without a simulated value) on stdout. Notes about
-//! normalized directions and missing values go to stderr.
+//! normalized directions and missing values go to stderr. A `--boundary` file that holds none
+//! of the measured directions (a boundary computed on another direction set) is refused,
+//! naming both files: boundary values are never interpolated between directions.
 
 use anyhow::bail;
 use helixreach::boundary::{continuum, der};
@@ -93,10 +95,43 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     for n in &set.notes {
         eprintln!("note: {n}");
     }
+    let mut missing_reason: Vec<String> = Vec::new();
     let sim = match (&a.boundary, a.method) {
         (Some(b), _) => {
             let rows = read_boundary(b)?;
             let pairs: Vec<_> = rows.iter().map(|r| (r.dir, r.s_star)).collect();
+            let dirs: Vec<_> = rows.iter().map(|r| r.dir).collect();
+            let on = compare::boundary_rows_on(&set.rows, &dirs);
+            if !on.iter().any(|&(o, _)| o) {
+                let (m, (_, nearest)) = (&set.rows[0], on[0]);
+                bail!(
+                    "{} holds none of the {} directions of {}: it was computed on other \
+                     directions (the first measured one, line {} ({}, {}, {}), is {:.3}° from the \
+                     nearest row; same ray = every component within {:e}). Compute the \
+                     boundary on the measured directions (`helixreach boundary --directions {} \
+                     --out B.csv`) or use `--method continuum|der`",
+                    b.display(),
+                    set.rows.len(),
+                    a.measured.display(),
+                    m.line,
+                    m.dir.kappa,
+                    m.dir.tau,
+                    m.dir.omega,
+                    nearest.to_degrees(),
+                    compare::MATCH_TOL,
+                    a.measured.display()
+                );
+            }
+            missing_reason = on
+                .iter()
+                .map(|&(o, _)| {
+                    if o {
+                        format!("s* is infinite in {}", b.display())
+                    } else {
+                        format!("not in {}", b.display())
+                    }
+                })
+                .collect();
             compare::match_boundary(&set.rows, &pairs)
         }
         (None, Some(m)) => simulate(&set.rows, m, a.n_edges)?,
@@ -105,8 +140,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let c = compare::compare(&set.rows, &sim);
     for &i in &c.missing {
         let m = &set.rows[i];
+        let why = missing_reason
+            .get(i)
+            .map_or(String::new(), |r| format!(" ({r})"));
         eprintln!(
-            "note: {}:{}: no simulated boundary for direction ({}, {}, {}); row kept with empty s_sim",
+            "note: {}:{}: no simulated boundary for direction ({}, {}, {}){why}; row kept with \
+             empty s_sim",
             a.measured.display(),
             m.line,
             m.dir.kappa,
