@@ -257,3 +257,83 @@ fn one_margin_rule_everywhere() {
     }
     assert!(!d.join("p.csv").exists());
 }
+
+/// `--out -` writes to standard output; a reader that stops early (`| head`) is not an error.
+#[test]
+fn out_dash_is_stdout_and_a_closed_pipe_is_not_an_error() {
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cmds: [&[&str]; 5] = [
+        &["boundary", "--fibonacci", "3"],
+        &["reach", "--fibonacci", "2"],
+        &["bifurcation", "--fibonacci", "2", "--n-edges", "20"],
+        &[
+            "simulate",
+            "--direction",
+            "1,0,0",
+            "--n-edges",
+            "10",
+            "--s-max",
+            "1",
+        ],
+        &["plan", "--direction", "0.6,0.8,0", "--allow-partial"],
+    ];
+    for cmd in cmds {
+        let mut a = vec!["--quiet"];
+        a.extend(cmd);
+        a.extend(["--out", "-"]);
+        let o = ok(d, &a);
+        let text = String::from_utf8(o.stdout).unwrap();
+        let first = text.lines().next().unwrap_or("");
+        assert!(
+            first.contains(','),
+            "{a:?}: a CSV header first, got {first:?}"
+        );
+        // The same, its standard output closed before it writes.
+        let mut child = Command::new(BIN)
+            .current_dir(d)
+            .args(&a)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        assert!(
+            o.status.success(),
+            "{a:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(
+            o.stderr.is_empty(),
+            "{a:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    // Nothing was written into the directory.
+    assert_eq!(std::fs::read_dir(d).unwrap().count(), 0);
+    // A JSON summary on a closed standard output (serde_json's own error) is no error either.
+    let mut child = Command::new(BIN)
+        .current_dir(d)
+        .args([
+            "--quiet",
+            "simulate",
+            "--direction",
+            "1,0,0",
+            "--n-edges",
+            "10",
+            "--s-max",
+            "1",
+            "--out",
+            "s.csv",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(d.join("s.csv").exists());
+}
