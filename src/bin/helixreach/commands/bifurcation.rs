@@ -27,6 +27,10 @@ use std::time::Instant;
 
 /// Arguments of `helixreach bifurcation`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach bifurcation --fibonacci 3 --n-edges 20 --out bifurcation.csv",
+    "> helixreach bifurcation --fibonacci 200 --quarter --out bifurcation.csv"
+))]
 #[command(group(clap::ArgGroup::new("dirs").required(true).args(["directions", "fibonacci"])))]
 pub struct Args {
     /// The direction set.

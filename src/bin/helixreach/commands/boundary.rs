@@ -43,6 +43,11 @@ pub enum Method {
 
 /// Arguments of `helixreach boundary`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach boundary --fibonacci 20 --quarter --out boundary.csv",
+    "$ helixreach boundary --method der --n-edges 30 --fibonacci 4 --out -",
+    "> helixreach boundary --fibonacci 2000 --quarter --out boundary.csv"
+))]
 #[command(group(clap::ArgGroup::new("dirs").required(true).args(["directions", "fibonacci"])))]
 pub struct Args {
     /// Stability test.

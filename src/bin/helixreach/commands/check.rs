@@ -27,6 +27,11 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach check`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach plan --direction 0.6,0.79,0.12 --out trajectory.csv",
+    "$ helixreach check --trajectory trajectory.csv --direction 0.6,0.79,0.12 --out rows.csv",
+    "> helixreach check --trajectory executed.txt --direction 1,0.23,0 --held-edges 100 --max-step 2"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]

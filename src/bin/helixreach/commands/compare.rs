@@ -29,6 +29,12 @@ pub enum Method {
 
 /// Arguments of `helixreach compare`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ printf 'dir_kappa,dir_tau,dir_omega,s_measured\\n1,0,0,6.3\\n0.6,0.8,0,7.1\\n' > measured.csv",
+    "$ helixreach compare --measured measured.csv --method continuum --out comparison.csv",
+    "$ helixreach boundary --directions measured.csv --out boundary.csv",
+    "$ helixreach compare --measured measured.csv --boundary boundary.csv --out -"
+))]
 #[command(group(clap::ArgGroup::new("sim").required(true).args(["boundary", "method"])))]
 pub struct Args {
     /// Measured snap points: CSV with columns dir_kappa,dir_tau,dir_omega,s_measured.

@@ -13,6 +13,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach demo`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "> helixreach demo --quick --out demo",
+    "> helixreach demo --out figures"
+))]
 pub struct Args {
     /// Output directory for figures, CSVs and the report (`--out figures` regenerates the
     /// figures committed in `figures/`).

@@ -20,6 +20,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach detect`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "> helixreach detect --observations run.txt --direction 0.75,0,0.66 --out samples.csv",
+    "> helixreach detect --runs runs.csv --out measured.csv"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]

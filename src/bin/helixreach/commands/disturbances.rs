@@ -14,6 +14,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach disturbances`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach disturbances --quick --factors nu --out disturbances",
+    "> helixreach disturbances --out disturbances"
+))]
 pub struct Args {
     /// Output directory (created).
     #[arg(long)]

@@ -9,6 +9,10 @@ use helixreach::robot::pose_to_xyz_wxyz;
 
 /// Arguments of `helixreach fk`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach fk --robot sawyer --joints 0,-1,0,1.5,0,-0.5,0",
+    "$ helixreach fk --robot sawyer --joints 0,-1,0,1.5,0,-0.5,0 --matrix"
+))]
 pub struct Args {
     /// URDF file, or a built-in robot: sawyer, panda, iiwa14.
     #[arg(long)]

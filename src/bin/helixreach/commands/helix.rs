@@ -12,6 +12,11 @@ use std::path::{Path, PathBuf};
 
 /// Arguments of `helixreach helix`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach helix --kappa 2 --tau 1 --omega 0.5",
+    "$ printf 'kappa,tau,omega\\n1,0,0\\n2,1,0.5\\n' > points.csv",
+    "$ helixreach helix --points points.csv"
+))]
 #[command(group(clap::ArgGroup::new("input").required(true).args(["kappa", "points"])))]
 pub struct Args {
     /// Curvature κ ≥ 0 (nondimensional, L = 1).

@@ -11,6 +11,10 @@ use std::io::Write;
 
 /// Arguments of `helixreach ik`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach ik --robot sawyer --pose 0.6,0.1,0.3,0,1,0,0",
+    "$ helixreach ik --robot sawyer --samples 2 --pose \"$(helixreach fk --robot sawyer --joints 0,-1,0,1.5,0,-0.5,0)\""
+))]
 pub struct Args {
     /// URDF file, or a built-in robot: sawyer, panda, iiwa14.
     #[arg(long)]

@@ -12,6 +12,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach layout`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach layout --fibonacci 4 --quarter --spacing 0.2 --placements 1 --out layout",
+    "> helixreach layout --fibonacci 173 --quarter --spacing 0.05 --placements 3 --out layout"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]

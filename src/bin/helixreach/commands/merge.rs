@@ -10,6 +10,11 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach merge`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach boundary --fibonacci 10 --shard 0/2 --out part0.csv",
+    "$ helixreach boundary --fibonacci 10 --shard 1/2 --out part1.csv",
+    "$ helixreach merge --out boundary.csv part0.csv part1.csv"
+))]
 pub struct Args {
     /// Shard outputs, in shard order.
     #[arg(required = true, num_args = 1..)]

@@ -10,6 +10,19 @@ macro_rules! status {
     };
 }
 
+/// The `Examples:` section that ends a subcommand's `--help` (clap `after_help`), one command
+/// line per argument. A line starting `$ ` runs in seconds in an empty directory, after the
+/// `$ ` lines before it (`tests/help_examples.rs` runs every one with `sh`); a line starting
+/// `> ` takes longer or needs files of your own, and is shown only.
+macro_rules! examples {
+    ($($line:literal),+ $(,)?) => {
+        concat!(
+            "Examples (`$`: runs in seconds, in order, in an empty directory; `>`: longer, or needs your files):\n",
+            $("  ", $line, "\n"),+
+        )
+    };
+}
+
 pub mod args;
 pub mod bifurcation;
 pub mod boundary;

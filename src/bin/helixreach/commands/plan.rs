@@ -24,6 +24,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach plan`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach plan --direction 0.6,0.79,0.12 --out trajectory.csv --json trajectory.json",
+    "$ helixreach plan --direction 0.92,0.12,0.36 --allow-partial --margin 0 --out partial.csv"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]

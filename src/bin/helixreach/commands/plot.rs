@@ -37,6 +37,11 @@ pub enum Kind {
 
 /// Arguments of `helixreach plot`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach boundary --fibonacci 60 --out boundary.csv",
+    "$ helixreach plot section --input boundary.csv --out section.png",
+    "$ helixreach plot boundary3d --input boundary.csv --out boundary.svg"
+))]
 pub struct Args {
     /// Which figure.
     #[arg(value_enum)]

@@ -10,6 +10,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach reach`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach reach --fibonacci 6 --quarter --out reach.csv",
+    "> helixreach reach --fibonacci 2000 --quarter --roll motor --out reach.csv"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]

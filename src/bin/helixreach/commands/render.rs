@@ -10,6 +10,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach render`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach plan --direction 0.6,0.79,0.12 --out trajectory.csv",
+    "$ helixreach render --trajectory trajectory.csv --out frames"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
     #[arg(long, default_value = "sawyer-seed")]

@@ -5,6 +5,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach robot`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach robot --robot panda",
+    "$ helixreach robot --robot sawyer --write-disabled sawyer.collision.toml"
+))]
 pub struct Args {
     /// URDF file, or a built-in robot: sawyer, panda, iiwa14.
     #[arg(long)]

@@ -12,6 +12,10 @@ use std::io::Write;
 
 /// Arguments of `helixreach rod`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach rod",
+    "$ helixreach rod --preset nitinol"
+))]
 pub struct Args {
     /// The rod (`--rig`, `--preset`, field overrides; default the embedded `sawyer-seed` rig).
     #[command(flatten)]

@@ -25,6 +25,10 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach simulate`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach simulate --direction 1,0,0 --n-edges 12 --s-max 7 --out series.csv",
+    "> helixreach simulate --direction 0.6,0.8,0 --gravity --unload --out series.csv"
+))]
 pub struct Args {
     /// Search direction κ̂,τ̂,ω̂ (normalized; κ̂ ≥ 0), e.g. `1,1,1`.
     #[arg(
