@@ -337,3 +337,61 @@ fn out_dash_is_stdout_and_a_closed_pipe_is_not_an_error() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(d.join("s.csv").exists());
 }
+
+/// `--azimuth` is radians on every command; simulate's earlier `--azimuth-deg` still reads
+/// (hidden) and means the same helix.
+#[test]
+fn azimuth_is_radians_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let sim = |name: &str, extra: &[&str]| -> Vec<f64> {
+        let mut a = vec![
+            "--quiet",
+            "simulate",
+            "--direction",
+            "1,0,0",
+            "--n-edges",
+            "10",
+            "--s-max",
+            "1",
+            "--rig",
+            "sawyer-seed",
+            "--out",
+            "s.csv",
+            "--force",
+            "--centerline",
+            name,
+        ];
+        a.extend(extra);
+        ok(d, &a);
+        let text = std::fs::read_to_string(d.join(name)).unwrap();
+        text.lines()
+            .skip(1)
+            .flat_map(|l| {
+                l.split(',')
+                    .filter_map(|x| x.parse::<f64>().ok())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let rad = sim("rad.csv", &["--azimuth", "1.5707963267948966"]);
+    let deg = sim("deg.csv", &["--azimuth-deg", "90"]);
+    let zero = sim("zero.csv", &[]);
+    assert_eq!(rad.len(), deg.len());
+    let diff = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    assert!(diff(&rad, &deg) < 1e-12, "{}", diff(&rad, &deg));
+    assert!(diff(&rad, &zero) > 1e-3, "the azimuth turns the helix");
+    for cmd in ["simulate", "plan", "check", "render", "detect"] {
+        let help = String::from_utf8(ok(d, &[cmd, "--help"]).stdout).unwrap();
+        assert!(
+            help.contains("--azimuth <") && help.contains("rad"),
+            "{cmd}"
+        );
+        assert!(!help.contains("--azimuth-deg"), "{cmd}");
+    }
+}

@@ -19,7 +19,7 @@ pub struct Args {
     #[arg(long, default_value = "sawyer-seed")]
     pub rig: String,
     /// Trajectory CSV as `helixreach plan` writes it (a `phase` column is used when present).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub trajectory: PathBuf,
     /// N frames evenly in time instead of the default (s = 0, ¼, ½, ¾, 1 of s*, the end, every
     /// reconfiguration).

@@ -79,10 +79,19 @@ pub struct Args {
     /// The rod (`--rig`, `--preset`, field overrides; default `paper-sim`).
     #[command(flatten)]
     rod: super::rod_args::RodArgs,
-    /// Helix azimuth α (degrees) about the clamp tangent: the helix first curls toward
-    /// cos α·d1 + sin α·d2 of the clamp frame (with gravity, α changes the run).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    azimuth_deg: Real,
+    /// Helix azimuth α (rad, as every command's `--azimuth`) about the clamp tangent: the helix
+    /// first curls toward cos α·d1 + sin α·d2 of the clamp frame (with gravity, α changes the
+    /// run). Default 0.
+    #[arg(long, allow_negative_numbers = true)]
+    azimuth: Option<Real>,
+    // `--azimuth-deg`: the earlier spelling in degrees, kept hidden.
+    #[arg(
+        long,
+        hide = true,
+        conflicts_with = "azimuth",
+        allow_negative_numbers = true
+    )]
+    azimuth_deg: Option<Real>,
     /// Write the centerline (node positions and material frames, base frame of the rig — the
     /// clamp frame without `--rig`) of every K-th recorded sample to this CSV.
     #[arg(long)]
@@ -131,17 +140,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let dir = Direction::new(k, t, w)?;
     let resolved = args.rod.resolve(Preset::PaperSim)?;
     let rod = resolved.rod;
+    let azimuth = match (args.azimuth, args.azimuth_deg) {
+        (Some(a), _) => a,
+        (None, Some(d)) => d.to_radians(),
+        (None, None) => 0.0,
+    };
     let placement = match &resolved.rig {
         Some(rig) => Placement::new(
             rig.clamp.translation.vector,
             rig.clamp_rotation(),
-            args.azimuth_deg.to_radians(),
+            azimuth,
             rod.length,
         )?,
         None => Placement::new(
             Vec3::zeros(),
             helixreach::math::Mat3::identity(),
-            args.azimuth_deg.to_radians(),
+            azimuth,
             rod.length,
         )?,
     };
