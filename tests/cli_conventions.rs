@@ -395,3 +395,85 @@ fn azimuth_is_radians_everywhere() {
         assert!(!help.contains("--azimuth-deg"), "{cmd}");
     }
 }
+
+/// A `--boundary` table computed on other directions is refused before any work by every
+/// command that reads one, naming the file.
+#[test]
+fn a_boundary_on_other_directions_is_refused_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(
+        d,
+        &["--quiet", "boundary", "--fibonacci", "7", "--out", "b7.csv"],
+    );
+    for cmd in [
+        &["reach", "--fibonacci", "4", "--out", "r.csv"][..],
+        &[
+            "layout",
+            "--fibonacci",
+            "4",
+            "--spacing",
+            "0.2",
+            "--out",
+            "lay",
+        ][..],
+    ] {
+        let mut a = vec!["--quiet"];
+        a.extend(cmd);
+        a.extend(["--boundary", "b7.csv"]);
+        let o = run(d, &a);
+        assert_eq!(o.status.code(), Some(2), "{a:?}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.contains("b7.csv: lists 0 of the 4 directions to run (4 missing"),
+            "{a:?}: {e}"
+        );
+    }
+    assert!(!d.join("r.csv").exists() && !d.join("lay").join("rays.csv").exists());
+    // The table on the same set is used.
+    ok(
+        d,
+        &["--quiet", "boundary", "--fibonacci", "4", "--out", "b4.csv"],
+    );
+    ok(
+        d,
+        &[
+            "--quiet",
+            "reach",
+            "--fibonacci",
+            "4",
+            "--boundary",
+            "b4.csv",
+            "--out",
+            "r.csv",
+        ],
+    );
+    // A shard needs only its own block: a boundary made for the same shard fits.
+    let b41 = [
+        "--quiet",
+        "boundary",
+        "--fibonacci",
+        "4",
+        "--shard",
+        "1/2",
+        "--out",
+        "b41.csv",
+    ];
+    ok(d, &b41);
+    let shard = [
+        "--quiet",
+        "reach",
+        "--fibonacci",
+        "4",
+        "--shard",
+        "1/2",
+        "--out",
+        "r41.csv",
+    ];
+    let mut a = shard.to_vec();
+    a.extend(["--boundary", "b7.csv"]);
+    assert_eq!(run(d, &a).status.code(), Some(2));
+    let mut a = shard.to_vec();
+    a.extend(["--boundary", "b41.csv"]);
+    ok(d, &a);
+}

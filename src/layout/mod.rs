@@ -318,6 +318,10 @@ pub fn run(
             "the direction set must not be empty",
         ));
     }
+    // A whole run needs s* of every direction (a shard's rays name a missing one as they go).
+    if let (Some(t), None) = (table, control.shard) {
+        t.check_covers(dirs)?;
+    }
     if opts.placements == 0 || opts.placements > MAX_PLACEMENTS {
         return Err(Error::invalid(
             "placements",

@@ -33,6 +33,7 @@ pub use crate::records::REACH_HEADER;
 #[derive(Debug, Clone, Default)]
 pub struct BoundaryTable {
     map: HashMap<[i64; 3], Real>,
+    path: std::path::PathBuf,
 }
 
 fn key_of(d: &Direction) -> [i64; 3] {
@@ -94,12 +95,45 @@ impl BoundaryTable {
             }
             map.insert(key_of(&d), v[3]);
         }
-        Ok(BoundaryTable { map })
+        Ok(BoundaryTable {
+            map,
+            path: path.to_path_buf(),
+        })
     }
 
     /// s* of `dir`, if listed.
     pub fn get(&self, dir: &Direction) -> Option<Real> {
         self.map.get(&key_of(dir)).copied()
+    }
+
+    /// The file the table was read from.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Refuse, before any work, a direction set that is not all in the table (a boundary
+    /// computed on other directions): the error names the file, how many directions are missing
+    /// and the first one. Boundary values are never interpolated between directions.
+    pub fn check_covers(&self, dirs: &[Direction]) -> Result<()> {
+        let missing: Vec<&Direction> = dirs.iter().filter(|d| self.get(d).is_none()).collect();
+        let Some(first) = missing.first() else {
+            return Ok(());
+        };
+        Err(Error::File {
+            path: self.path.clone(),
+            reason: format!(
+                "lists {} of the {} directions to run ({} missing, first ({}, {}, {})): \
+                 compute the boundary on the same direction set (same --directions or \
+                 --fibonacci/--quarter), or leave --boundary out (the continuum s* is then \
+                 computed per direction)",
+                dirs.len() - missing.len(),
+                dirs.len(),
+                missing.len(),
+                first.kappa,
+                first.tau,
+                first.omega
+            ),
+        })
     }
 
     /// Number of directions listed.
@@ -132,7 +166,7 @@ pub fn s_star_of(dir: &Direction, table: Option<&BoundaryTable>) -> Result<Real>
             Error::invalid(
                 "boundary",
                 format!("({}, {}, {})", dir.kappa, dir.tau, dir.omega),
-                "direction not listed in the boundary file",
+                format!("direction not listed in {}", t.path().display()),
             )
         }),
         None => Ok(crate::boundary::continuum::critical_s(dir, tol::S_STAR_REL)?.s_star),
@@ -219,7 +253,9 @@ pub fn settings(
 }
 
 /// Run the sweep over `dirs` with the driver's options (output, resume, force, shard,
-/// progress); the settings of [`settings`] are recorded in the output.
+/// progress); the settings of [`settings`] are recorded in the output. A `table` that lacks
+/// any of the directions the run computes (all of `dirs`, or the shard's block) is refused
+/// before any work ([`BoundaryTable::check_covers`]).
 pub fn run(
     planner: &Planner,
     dirs: &[Direction],
@@ -227,6 +263,11 @@ pub fn run(
     opts: &ReachOptions,
     sweep: &SweepOptions,
 ) -> Result<SweepSummary> {
+    if let Some(t) = table {
+        // The directions this run computes (a shard's block only: a table made per shard fits).
+        let mine = sweep.shard.map_or(0..dirs.len(), |s| s.range(dirs.len()));
+        t.check_covers(&dirs[mine])?;
+    }
     let sweep = &settings(planner, table, opts, sweep);
     driver::run(
         dirs,
