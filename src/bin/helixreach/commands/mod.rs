@@ -13,6 +13,7 @@ macro_rules! status {
 pub mod args;
 pub mod bifurcation;
 pub mod boundary;
+pub mod campaign;
 pub mod check;
 pub mod compare;
 pub mod demo;
