@@ -17,6 +17,7 @@
 
 pub mod bifurcation;
 pub mod boundary;
+pub mod campaign;
 pub mod centerline;
 pub mod check;
 pub mod clamp_runs;
