@@ -10,6 +10,7 @@
 //! | [`search`] | the decision of one ray by a search of its valid set: a path or a certificate |
 //! | [`self_motion`] | walking the self-motion manifold of a held pose; resampling within 1e-6 m / rad |
 //! | [`trajectory`] | time parametrization and the CSV / JSON writers |
+//! | [`campaign`] | a test campaign: every testable ray of a set, ordered, the moves between runs, sessions |
 //! | [`check`] | validation of an existing joint trajectory: limits, collisions, steps, pose error |
 //! | [`witness`] | an executed run as a witness of a feasible ray: projection, correction, jump classification |
 //!
@@ -27,6 +28,7 @@
 //! # Ok::<(), helixreach::Error>(())
 //! ```
 
+pub mod campaign;
 pub mod check;
 pub mod ladder;
 pub mod planner;

@@ -196,6 +196,7 @@ use std::sync::OnceLock;
 
 mod gate;
 mod start;
+mod transition;
 
 /// Halvings of the s-step allowed at one waypoint when its rung cannot be joined.
 const MAX_REFINE: u32 = 4;

@@ -207,11 +207,26 @@ pub fn of_plan(planner: &Planner, plan: &RayPlan) -> Result<Trajectory> {
             points.push(point(&path[k], phase));
         }
     }
+    let model = planner.model();
+    time_parametrize(&mut points, &timing_limits(planner)?)?;
+    Ok(Trajectory {
+        joint_names: model.joints().iter().map(|j| j.name.clone()).collect(),
+        motor_name: "rod_motor".into(),
+        frame_id: model.root_link().to_string(),
+        points,
+        outcome: RayOutcome::of(plan),
+    })
+}
+
+/// The timing limits of a planner's rig: the robot's joint speed limits times the rig's
+/// `velocity_scale`, its acceleration limits times `acceleration_scale`, the motor's, the
+/// rod-end and ray speeds, the rod length and the hold time.
+pub fn timing_limits(planner: &Planner) -> Result<TimingLimits> {
     let rig = planner.rig();
     let model = planner.model();
     let scale = rig.planner.velocity_scale;
     let a_scale = rig.planner.acceleration_scale;
-    let limits = TimingLimits {
+    Ok(TimingLimits {
         joint_velocity: model.joints().iter().map(|j| j.velocity * scale).collect(),
         joint_acceleration: rig
             .joint_acceleration_limits(model.dof())?
@@ -224,14 +239,6 @@ pub fn of_plan(planner: &Planner, plan: &RayPlan) -> Result<Trajectory> {
         end_speed: rig.planner.end_speed,
         rod_length: rig.rod.length,
         hold_time: rig.planner.hold_time,
-    };
-    time_parametrize(&mut points, &limits)?;
-    Ok(Trajectory {
-        joint_names: model.joints().iter().map(|j| j.name.clone()).collect(),
-        motor_name: "rod_motor".into(),
-        frame_id: model.root_link().to_string(),
-        points,
-        outcome: RayOutcome::of(plan),
     })
 }
 

@@ -17,6 +17,7 @@
 //! | robot, rod and scene along a trajectory: strip, GIF (poses the robot model; see its docs) | [`render::render_trajectory`] | trajectory CSV + rig |
 //! | rig layout: coverage heat map over the bench | [`layout_heatmap::render`] | [`layout_heatmap::Heatmap`] |
 //! | rig layout: directions by placement | [`layout_directions::render`] | directions + placement |
+//! | a campaign's sessions: runs by placement, moves between them | [`campaign_timeline::render`] | [`campaign_timeline::Bar`] |
 //! | rig layout: coverage versus K | [`layout_coverage::render`] | [`layout_coverage::Point`] |
 //!
 //! The output format follows the file extension (`.png` or `.svg`, case-insensitive); anything
@@ -39,6 +40,7 @@
 //! [`Direction`]: crate::directions::Direction
 
 pub mod bifurcation_map;
+pub mod campaign_timeline;
 pub mod boundary3d;
 pub mod comparison;
 pub mod detection;

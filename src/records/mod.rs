@@ -16,6 +16,7 @@
 //! | [`read_joint_limits`] | user / `demo` | `joint,lower,upper` |
 
 pub mod bifurcation;
+pub mod campaign;
 pub mod boundary;
 pub mod centerline;
 pub mod check;
