@@ -104,17 +104,17 @@ pub fn ray_run_columns() -> Vec<Column> {
 pub struct CampaignRecord {
     /// Execution order (1-based); empty for a ray that is not testable.
     pub order: Option<usize>,
-    /// Placement (1-based; 1 for a single rig).
-    pub placement: usize,
+    /// Placement (1-based; 1 for a single rig); empty when no placement of a layout tests it.
+    pub placement: Option<usize>,
     /// Clamp origin x (m).
-    #[serde(serialize_with = "csv_out::real")]
-    pub clamp_x: Real,
+    #[serde(serialize_with = "csv_out::opt_real")]
+    pub clamp_x: Option<Real>,
     /// Clamp origin y (m).
-    #[serde(serialize_with = "csv_out::real")]
-    pub clamp_y: Real,
+    #[serde(serialize_with = "csv_out::opt_real")]
+    pub clamp_y: Option<Real>,
     /// Clamp origin z (m).
-    #[serde(serialize_with = "csv_out::real")]
-    pub clamp_z: Real,
+    #[serde(serialize_with = "csv_out::opt_real")]
+    pub clamp_z: Option<Real>,
     /// κ̂ of the direction.
     #[serde(serialize_with = "csv_out::real")]
     pub dir_kappa: Real,
@@ -221,10 +221,10 @@ mod tests {
         assert_eq!(fields(&ray).unwrap()[9], "12.5");
         let row = CampaignRecord {
             order: None,
-            placement: 1,
-            clamp_x: 0.8,
-            clamp_y: 0.0,
-            clamp_z: 0.1,
+            placement: Some(1),
+            clamp_x: Some(0.8),
+            clamp_y: Some(0.0),
+            clamp_z: Some(0.1),
             dir_kappa: 1.0,
             dir_tau: 0.0,
             dir_omega: 0.0,

@@ -59,6 +59,8 @@ enum Command {
     Check(commands::check::Args),
     /// Reachability sweep of a rig over a direction set.
     Reach(commands::reach::Args),
+    /// Every testable ray of a direction set planned, ordered and split into sessions.
+    Campaign(commands::campaign::Args),
     /// Clamp placements that together cover a direction set (rig layout).
     Layout(commands::layout::Args),
     /// Join shard outputs of `reach` (or `boundary`).
@@ -161,6 +163,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Robot(a) => commands::robot::run(a),
         Command::Rig(a) => commands::rig::run(a),
         Command::Plan(a) => commands::plan::run(a),
+        Command::Campaign(a) => commands::campaign::run(a),
         Command::Check(a) => commands::check::run(a),
         Command::Reach(a) => commands::reach::run(a),
         Command::Layout(a) => commands::layout::run(a),

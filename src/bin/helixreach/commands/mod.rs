@@ -26,6 +26,7 @@ macro_rules! examples {
 pub mod args;
 pub mod bifurcation;
 pub mod boundary;
+pub mod campaign;
 pub mod check;
 pub mod compare;
 pub mod demo;

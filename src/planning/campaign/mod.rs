@@ -58,6 +58,11 @@ use crate::planning::rig::RollMode;
 use crate::planning::trajectory::{time_parametrize, Phase, TimingLimits, TrajectoryPoint};
 use std::path::{Path, PathBuf};
 
+mod run;
+pub use run::{
+    run_campaign, CampaignInput, CampaignOptions, CampaignSummary, Ray, SessionSummary, Unplanned,
+};
+
 /// Runs tried as the first of a nearest-neighbour path (all runs when fewer).
 pub const NN_STARTS: usize = 64;
 /// Most 2-opt passes over the path.
@@ -302,16 +307,9 @@ impl Default for Handling {
 }
 
 /// Time-parametrize the joint path `path` (joints, motor) on `planner`'s limits, from rest to
-/// rest; `free`: no rod-end speed limit (the rod released).
-fn timed(
-    planner: &Planner,
-    path: &[(Vec<Real>, Real)],
-    free: bool,
-) -> Result<Vec<(Real, Vec<Real>, Real)>> {
-    let mut lim = crate::planning::trajectory::timing_limits(planner)?;
-    if free {
-        lim.end_speed = Real::INFINITY;
-    }
+/// rest, as the runs are.
+fn timed(planner: &Planner, path: &[(Vec<Real>, Real)]) -> Result<Vec<(Real, Vec<Real>, Real)>> {
+    let lim = crate::planning::trajectory::timing_limits(planner)?;
     let mut pts: Vec<TrajectoryPoint> = path
         .iter()
         .map(|(q, m)| TrajectoryPoint {
@@ -330,22 +328,64 @@ fn timed(
     Ok(pts.into_iter().map(|p| (p.t, p.q, p.motor)).collect())
 }
 
-/// The straight joint path from `a` to `b` in steps of at most half the rig's joint step.
-fn linear(planner: &Planner, a: &[Real], ma: Real, b: &[Real], mb: Real) -> Vec<(Vec<Real>, Real)> {
-    let dmax = a
+/// The straight joint move from `(a, ma)` to `(b, mb)` from rest to rest on a trapezoidal
+/// profile of the path parameter u ∈ [0, 1] (all channels in step): speed `V = min_c v_c/|Δ_c|`,
+/// acceleration `A = min_c A_c/|Δ_c|` over the channels that move (the rig's scaled limits),
+/// cruise at V when the move is long enough, else a triangle. Sampled uniformly in u, every
+/// joint step within half the rig's `max_joint_step`, times `t(u)` exact on the profile.
+fn trapezoid(
+    planner: &Planner,
+    (a, ma): (&[Real], Real),
+    (b, mb): (&[Real], Real),
+) -> Result<Vec<(Real, Vec<Real>, Real)>> {
+    let lim = crate::planning::trajectory::timing_limits(planner)?;
+    let (mut v, mut acc) = (Real::INFINITY, Real::INFINITY);
+    let mut dmax: Real = 0.0;
+    let chans = a
         .iter()
         .zip(b)
-        .map(|(x, y)| (y - x).abs())
-        .fold(0.0, Real::max);
+        .enumerate()
+        .map(|(j, (x, y))| (y - x, lim.joint_velocity[j], lim.joint_acceleration[j]))
+        .chain(std::iter::once((mb - ma, lim.motor_velocity, lim.motor_acceleration)));
+    for (k, (d, vc, ac)) in chans.enumerate() {
+        if d != 0.0 {
+            v = v.min(vc / d.abs());
+            acc = acc.min(ac / d.abs());
+        }
+        if k < a.len() {
+            dmax = dmax.max(d.abs());
+        }
+    }
+    if !(v.is_finite() && acc.is_finite()) {
+        return Ok(vec![(0.0, a.to_vec(), ma)]);
+    }
+    // Accelerate for t_a to speed v_top over u_a, cruise, decelerate symmetrically.
+    let (t_a, v_top) = if v * v / acc >= 1.0 {
+        let t = (1.0 / acc).sqrt();
+        (t, acc * t)
+    } else {
+        (v / acc, v)
+    };
+    let u_a = 0.5 * v_top * t_a;
+    let total = 2.0 * t_a + (1.0 - 2.0 * u_a).max(0.0) / v_top;
+    let time = |u: Real| {
+        if u <= u_a {
+            (2.0 * u / acc).sqrt()
+        } else if u >= 1.0 - u_a {
+            total - (2.0 * (1.0 - u).max(0.0) / acc).sqrt()
+        } else {
+            t_a + (u - u_a) / v_top
+        }
+    };
     let step = 0.5 * planner.rig().planner.max_joint_step;
     let n = ((dmax / step).ceil() as usize).max(1);
-    (0..=n)
+    Ok((0..=n)
         .map(|k| {
-            let t = k as Real / n as Real;
-            let q = a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect();
-            (q, ma + t * (mb - ma))
+            let u = k as Real / n as Real;
+            let q = a.iter().zip(b).map(|(x, y)| x + u * (y - x)).collect();
+            (time(u), q, ma + u * (mb - ma))
         })
-        .collect()
+        .collect())
 }
 
 /// Plan the move from `(from, m_from)` (the last run's end) to `(to, m_to)` (the next run's
@@ -370,7 +410,7 @@ pub fn plan_transition(
         if let Some(walk) = planner.straight_reconfiguration(from, to, m_from)? {
             let mut path = vec![(from.to_vec(), m_from)];
             path.extend(walk.into_iter().map(|q| (q, m_from)));
-            let points = timed(planner, &path, false)?;
+            let points = timed(planner, &path)?;
             return Ok(Transition {
                 kind: TransitionKind::ReconfigureAtStraight,
                 motion_s: points.last().map_or(0.0, |p| p.0),
@@ -393,7 +433,7 @@ pub fn plan_transition(
     }
     match planner.free_move(from, to, false)? {
         Ok(()) => {
-            let points = timed(planner, &linear(planner, from, m_from, to, m_to), true)?;
+            let points = trapezoid(planner, (from, m_from), (to, m_to))?;
             Ok(Transition {
                 kind,
                 motion_s: points.last().map_or(0.0, |p| p.0),
