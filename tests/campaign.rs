@@ -48,7 +48,7 @@ fn num(r: &Row, k: &str) -> f64 {
 /// The last `t` of a trajectory CSV (its first column), read as text.
 fn last_t(path: &Path) -> f64 {
     let text = std::fs::read_to_string(path).unwrap();
-    let last = text.lines().filter(|l| !l.is_empty()).last().unwrap();
+    let last = text.lines().rfind(|l| !l.is_empty()).unwrap();
     last.split(',').next().unwrap().parse().unwrap()
 }
 
@@ -133,8 +133,12 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
                 let mv = JointFile::read(&out.join(&r["transition_file"]), &names).unwrap();
                 let rep = checker.check(&mv, &CheckOptions::default()).unwrap();
                 assert_eq!(rep.finding_mask(), 0, "{kind}: {:?}", rep.findings());
-                let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9);
-                assert!(close(mv.row(0), prev_end.as_deref().unwrap()), "{kind} start");
+                let close =
+                    |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9);
+                assert!(
+                    close(mv.row(0), prev_end.as_deref().unwrap()),
+                    "{kind} start"
+                );
                 assert!(close(mv.row(mv.rows() - 1), &first), "{kind} end");
                 assert!(
                     (last_t(&out.join(&r["transition_file"])) - num(r, "transition_s")).abs()
@@ -183,17 +187,22 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
     }
     // The total is the sum of the list.
     let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("campaign.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("campaign.json")).unwrap()).unwrap();
     let total: f64 = session_len.values().map(|v| v.0).sum();
     assert!((summary["total_s"].as_f64().unwrap() - total).abs() < 1e-6);
-    assert_eq!(summary["sessions"].as_array().unwrap().len(), session_len.len());
+    assert_eq!(
+        summary["sessions"].as_array().unwrap().len(),
+        session_len.len()
+    );
     assert!(session_len.len() >= 2, "{session_len:?}");
     assert!(out.join("timeline.png").is_file());
     // The partial ray: listed with its cause, no files.
     let bad: Vec<&Row> = list.iter().filter(|r| r["order"].is_empty()).collect();
     assert_eq!(bad.len(), 1);
-    assert_eq!((bad[0]["class"].as_str(), bad[0]["cause"].as_str()), ("partial", "no_ik"));
+    assert_eq!(
+        (bad[0]["class"].as_str(), bad[0]["cause"].as_str()),
+        ("partial", "no_ik")
+    );
     assert!(bad[0]["file"].is_empty() && bad[0]["session"].is_empty());
     let files: Vec<String> = std::fs::read_dir(out.join("runs"))
         .unwrap()
@@ -223,9 +232,11 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(std::fs::read(out.join("campaign.csv")).unwrap(), before);
     let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("campaign.json")).unwrap())
-            .unwrap();
-    assert_eq!((summary["computed"].as_u64(), summary["resumed"].as_u64()), (Some(0), Some(4)));
+        serde_json::from_str(&std::fs::read_to_string(out.join("campaign.json")).unwrap()).unwrap();
+    assert_eq!(
+        (summary["computed"].as_u64(), summary["resumed"].as_u64()),
+        (Some(0), Some(4))
+    );
 }
 
 #[test]
@@ -241,7 +252,12 @@ fn no_testable_ray_exits_3_and_lists_the_cause() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let list = read_csv(&out.join("campaign.csv"));
     assert_eq!(list.len(), 1);
     assert_eq!(list[0]["cause"], "no_ik");

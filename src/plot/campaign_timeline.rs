@@ -1,6 +1,6 @@
 //! A campaign's timeline ([`crate::planning::campaign`]): one row per session, hours from the
-//! session's start on x; each run a bar coloured by its placement, the move into it (robot
-//! motion and handling) a grey bar before it.
+//! session's start on x; each run a bar coloured by its placement (a white edge where it
+//! starts), the move into it (robot motion and handling) a grey bar before it.
 
 use super::style::{self, FAMILY};
 use super::{DrawResult, Figure};
@@ -94,10 +94,13 @@ impl Figure for Timeline<'_> {
                 Some(p) => style::series(p - 1).filled(),
                 None => style::GREY.filled(),
             };
-            Rectangle::new(
-                [(b.start_s / h, y - 0.35), (b.end_s / h, y + 0.35)],
-                colour,
-            )
+            Rectangle::new([(b.start_s / h, y - 0.35), (b.end_s / h, y + 0.35)], colour)
+        }))?;
+        // A thin white edge at the start of every run, so that consecutive runs of one
+        // placement stay apart.
+        chart.draw_series(self.bars.iter().filter(|b| b.placement.is_some()).map(|b| {
+            let (x, y) = (b.start_s / h, b.session as f64);
+            PathElement::new(vec![(x, y - 0.35), (x, y + 0.35)], WHITE.stroke_width(1))
         }))?;
         let x = self.session_s / h;
         chart.draw_series(DashedLineSeries::new(

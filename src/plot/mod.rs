@@ -40,8 +40,8 @@
 //! [`Direction`]: crate::directions::Direction
 
 pub mod bifurcation_map;
-pub mod campaign_timeline;
 pub mod boundary3d;
+pub mod campaign_timeline;
 pub mod comparison;
 pub mod detection;
 pub mod direction_map;

@@ -79,7 +79,12 @@ pub fn ray_run_columns() -> Vec<Column> {
     vec![
         Column::new("placement", "", Kind::Count, "placement (1-based)"),
         Column::new("class", "", Kind::Text, "reachability class"),
-        Column::new("cause", "", Kind::Text, "blocking cause; empty when testable"),
+        Column::new(
+            "cause",
+            "",
+            Kind::Text,
+            "blocking cause; empty when testable",
+        ),
         Column::new(
             "duration_s",
             "s",
@@ -245,6 +250,9 @@ mod tests {
         };
         header_matches(&row);
         let f = fields(&row).unwrap();
-        assert_eq!((f[0].as_str(), f[8].as_str(), f[13].as_str()), ("", "inf", ""));
+        assert_eq!(
+            (f[0].as_str(), f[8].as_str(), f[13].as_str()),
+            ("", "inf", "")
+        );
     }
 }

@@ -16,8 +16,8 @@
 //! | [`read_joint_limits`] | user / `demo` | `joint,lower,upper` |
 
 pub mod bifurcation;
-pub mod campaign;
 pub mod boundary;
+pub mod campaign;
 pub mod centerline;
 pub mod check;
 pub mod clamp_runs;

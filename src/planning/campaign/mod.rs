@@ -37,11 +37,13 @@
 //! move (a reconfiguration walks a longer path; an unclamp move adds handling), cheap enough
 //! for all pairs; the real moves are planned only along the chosen order. Construction:
 //! nearest neighbour from every run as the first (from the first [`NN_STARTS`] when there are
-//! more, fewer for thousands of runs: at most ≈ 5·10⁷ bound evaluations), ties broken by input order, the shortest kept; then 2-opt (reverse a stretch
-//! whenever that shortens the path; a run's end equals its start, so the cost is symmetric)
-//! until no reversal improves, at most [`TWO_OPT_PASSES`] passes. Cost: O(min(n, NN_STARTS)·n²
-//! + passes·n²) bound evaluations of O(dof) each; 173 runs take milliseconds. Not optimal: the
-//! bound ignores which moves need unclamping.
+//! more, fewer for thousands of runs: at most ≈ 5·10⁷ bound evaluations), ties broken by input
+//! order, the shortest kept; then passes of 2-opt (reverse a stretch whenever that shortens the
+//! path; a run's end equals its start, so the cost is symmetric) and Or-opt (move one run to
+//! another place whenever that shortens the path) until neither improves, at most
+//! [`TWO_OPT_PASSES`] passes. Cost: O(min(n, NN_STARTS)·n² plus passes·n²) bound evaluations (and O(n²) copies per Or-opt pass) of
+//! O(dof) each; 173 runs take milliseconds. Not optimal: the bound ignores which moves need
+//! unclamping.
 //!
 //! # Layout input ([`read_layout`])
 //! `placements.csv` (`placement`, `rig_file`: the placed rig's TOML beside it) and
@@ -65,7 +67,7 @@ pub use run::{
 
 /// Runs tried as the first of a nearest-neighbour path (all runs when fewer).
 pub const NN_STARTS: usize = 64;
-/// Most 2-opt passes over the path.
+/// Most improvement passes (2-opt and Or-opt) over the path.
 pub const TWO_OPT_PASSES: usize = 50;
 /// Default session length (h).
 pub const DEFAULT_SESSION_HOURS: Real = 8.0;
@@ -126,7 +128,7 @@ pub fn move_time(a: &[Real], ma: Real, b: &[Real], mb: Real, lim: &TimingLimits)
 /// ```
 /// use helixreach::planning::campaign::order_tour;
 /// // Points on a line, shuffled: the best open path visits them in order.
-/// let x = [3.0, 0.0, 4.0, 1.0, 2.0];
+/// let x: [f64; 5] = [3.0, 0.0, 4.0, 1.0, 2.0];
 /// let p = order_tour(5, |i, j| (x[i] - x[j]).abs());
 /// let v: Vec<f64> = p.iter().map(|&i| x[i]).collect();
 /// assert!(v == [0.0, 1.0, 2.0, 3.0, 4.0] || v == [4.0, 3.0, 2.0, 1.0, 0.0], "{v:?}");
@@ -200,6 +202,40 @@ pub fn order_tour(n: usize, cost: impl Fn(usize, usize) -> Real) -> Vec<usize> {
                 }
             }
         }
+        // Or-opt: move one run elsewhere when that shortens the path.
+        for i in 0..n {
+            let c = path[i];
+            let prev = (i > 0).then(|| path[i - 1]);
+            let next = path.get(i + 1).copied();
+            let removed = prev.map_or(0.0, |p| cost(p, c)) + next.map_or(0.0, |q| cost(c, q))
+                - match (prev, next) {
+                    (Some(p), Some(q)) => cost(p, q),
+                    _ => 0.0,
+                };
+            let mut rest = path.clone();
+            rest.remove(i);
+            // Insert before position k of `rest` (k = n − 1: at the end).
+            let mut best_k = None;
+            let mut best_add = removed - 1e-12 * removed.abs().max(1.0);
+            for k in 0..n {
+                let a = (k > 0).then(|| rest[k - 1]);
+                let b = rest.get(k).copied();
+                let add = a.map_or(0.0, |a| cost(a, c)) + b.map_or(0.0, |b| cost(c, b))
+                    - match (a, b) {
+                        (Some(a), Some(b)) => cost(a, b),
+                        _ => 0.0,
+                    };
+                if add < best_add {
+                    best_add = add;
+                    best_k = Some(k);
+                }
+            }
+            if let Some(k) = best_k {
+                rest.insert(k, c);
+                path = rest;
+                improved = true;
+            }
+        }
         if !improved {
             break;
         }
@@ -266,12 +302,12 @@ impl Transition {
         }
     }
 
-    /// The move as a joint CSV `t,q0..q{n-1},motor` (what `helixreach check` reads, timed).
-    pub fn to_csv(&self) -> String {
-        let dof = self.points.first().map_or(0, |p| p.1.len());
+    /// The move as a joint CSV `t,<joint names>,motor` (what `helixreach check` reads, timed).
+    pub fn to_csv(&self, joint_names: &[String]) -> String {
         let mut s = String::from("t");
-        for j in 0..dof {
-            s.push_str(&format!(",q{j}"));
+        for name in joint_names {
+            s.push(',');
+            s.push_str(name);
         }
         s.push_str(",motor\n");
         for (t, q, m) in &self.points {
@@ -346,7 +382,11 @@ fn trapezoid(
         .zip(b)
         .enumerate()
         .map(|(j, (x, y))| (y - x, lim.joint_velocity[j], lim.joint_acceleration[j]))
-        .chain(std::iter::once((mb - ma, lim.motor_velocity, lim.motor_acceleration)));
+        .chain(std::iter::once((
+            mb - ma,
+            lim.motor_velocity,
+            lim.motor_acceleration,
+        )));
     for (k, (d, vc, ac)) in chans.enumerate() {
         if d != 0.0 {
             v = v.min(vc / d.abs());
@@ -545,7 +585,10 @@ pub fn read_layout(dir: &Path) -> Result<LayoutInput> {
                 &pf,
                 line,
                 "placement",
-                format!("`{p}`: expected {} (placements numbered 1, 2, … in order)", rig_files.len() + 1),
+                format!(
+                    "`{p}`: expected {} (placements numbered 1, 2, … in order)",
+                    rig_files.len() + 1
+                ),
             ));
         }
         let name = rec.get(ir).unwrap_or("");
@@ -583,9 +626,9 @@ pub fn read_layout(dir: &Path) -> Result<LayoutInput> {
         let rec = rec.map_err(|e| crate::io::bad_line(&af, line, "record", e.to_string()))?;
         let line = crate::io::line_of(&rec, line);
         let mut v = [0.0; 3];
-        for (x, (&c, name)) in v
-            .iter_mut()
-            .zip(cols.iter().zip(["dir_kappa", "dir_tau", "dir_omega"]))
+        for (x, (&c, name)) in
+            v.iter_mut()
+                .zip(cols.iter().zip(["dir_kappa", "dir_tau", "dir_omega"]))
         {
             *x = crate::io::parse_field(&af, line, &rec, c, name)?;
         }
@@ -599,7 +642,12 @@ pub fn read_layout(dir: &Path) -> Result<LayoutInput> {
                     if x.is_finite() {
                         Ok(Some(x))
                     } else {
-                        Err(crate::io::bad_line(&af, line, name, format!("`{x}` is not finite")))
+                        Err(crate::io::bad_line(
+                            &af,
+                            line,
+                            name,
+                            format!("`{x}` is not finite"),
+                        ))
                     }
                 }
             }
@@ -655,4 +703,68 @@ pub fn parse_joints(text: &str, what: &str) -> Result<Vec<Real>> {
             _ => Err(Error::invalid(what, x, "not a finite number")),
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Heap's algorithm: the shortest open path over every permutation (brute force).
+    fn brute_force(n: usize, cost: &dyn Fn(usize, usize) -> Real) -> Real {
+        let mut p: Vec<usize> = (0..n).collect();
+        let len = |p: &[usize]| p.windows(2).map(|w| cost(w[0], w[1])).sum::<Real>();
+        let mut best = len(&p);
+        let mut c = vec![0; n];
+        let mut i = 0;
+        while i < n {
+            if c[i] < i {
+                if i % 2 == 0 {
+                    p.swap(0, i);
+                } else {
+                    p.swap(c[i], i);
+                }
+                best = best.min(len(&p));
+                c[i] += 1;
+                i = 0;
+            } else {
+                c[i] = 0;
+                i += 1;
+            }
+        }
+        best
+    }
+
+    /// On 40 random sets of 7 points in the plane (Euclidean cost), the tour is a permutation,
+    /// never longer than the input order, within 15 % of the brute-force optimum, and optimal
+    /// on at least 35 (measured: 38 optimal, the others 1.6 % and 11 % longer).
+    #[test]
+    fn tours_against_brute_force() {
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as Real / (1u64 << 53) as Real
+        };
+        let mut optimal = 0;
+        for _ in 0..40 {
+            let pts: Vec<(Real, Real)> = (0..7).map(|_| (rnd(), rnd())).collect();
+            let cost = |i: usize, j: usize| {
+                ((pts[i].0 - pts[j].0).powi(2) + (pts[i].1 - pts[j].1).powi(2)).sqrt()
+            };
+            let tour = order_tour(7, cost);
+            let mut sorted = tour.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (0..7).collect::<Vec<_>>());
+            let len = |p: &[usize]| p.windows(2).map(|w| cost(w[0], w[1])).sum::<Real>();
+            let best = brute_force(7, &cost);
+            let got = len(&tour);
+            assert!(got <= len(&(0..7).collect::<Vec<_>>()) + 1e-12);
+            assert!(got <= 1.15 * best + 1e-12, "{got} vs optimum {best}");
+            if got <= best + 1e-12 {
+                optimal += 1;
+            }
+        }
+        assert!(optimal >= 35, "optimal on {optimal} of 40");
+    }
 }

@@ -8,7 +8,7 @@
 //! | `rays.csv` (+ `.meta.json` settings record) | every planned ray: class, cause, duration, start and end joints ([`RayRunRecord`]) |
 //! | `runs/<name>.csv` (+ `.meta.json`) | a run's trajectory, as `helixreach plan` writes it |
 //! | `runs/<name>.json` (+ `.meta.json`) | the arm's ROS 2 `trajectory_msgs/msg/JointTrajectory` |
-//! | `transitions/<order>.csv` | the move into run `order` (`t,q…,motor`), when the robot moves |
+//! | `transitions/<order>.csv` | the move into run `order` (`t`, the joints by URDF name, `motor`), when the robot moves |
 //! | `campaign.csv` | the runs in execution order, then the rays that are not testable ([`CampaignRecord`]) |
 //! | `campaign.json` | the totals ([`CampaignSummary`]) |
 //! | `timeline.png` | the sessions ([`crate::plot::campaign_timeline`]) |
@@ -34,7 +34,9 @@ use crate::records::campaign::{
 };
 use crate::records::csv_out::{fields, to_csv, CsvRecord};
 use crate::records::fmt_real;
-use crate::records::trajectory::{message_json, trajectory_meta_json, Channels, JointTrajectoryMsg};
+use crate::records::trajectory::{
+    message_json, trajectory_meta_json, Channels, JointTrajectoryMsg,
+};
 use crate::sweep::driver::{self, SweepOptions};
 use crate::sweep::reach::{s_star_of, BoundaryTable, ReachOptions};
 use rayon::prelude::*;
@@ -277,7 +279,8 @@ fn read_rays(path: &Path) -> Result<Vec<Planned>> {
             Some(RunEnds {
                 duration: num("duration_s")?,
                 motor: num("motor_start")?,
-                q_start: parse_joints(&text("q_start"), "q_start").map_err(|e| bad("q_start", e))?,
+                q_start: parse_joints(&text("q_start"), "q_start")
+                    .map_err(|e| bad("q_start", e))?,
                 q_end: parse_joints(&text("q_end"), "q_end").map_err(|e| bad("q_end", e))?,
             })
         };
@@ -410,6 +413,12 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
     let mut rows: Vec<CampaignRecord> = Vec::new();
     let mut kinds = std::collections::BTreeMap::new();
     let mut bars = Vec::new();
+    let joint_names: Vec<String> = input.planners[0]
+        .model()
+        .joints()
+        .iter()
+        .map(|j| j.name.clone())
+        .collect();
     for (k, (&i, t)) in order.iter().zip(&transitions).enumerate() {
         let p = &planned[i];
         let c = clamp(p.placement);
@@ -419,7 +428,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
             let rel = format!("{TRANSITIONS_DIR}/{:03}.csv", k + 1);
             Output::new(folder.join(&rel))
                 .force(true)
-                .write(t.to_csv().as_bytes())?;
+                .write(t.to_csv(&joint_names).as_bytes())?;
             rel
         } else {
             String::new()

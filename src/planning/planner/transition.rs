@@ -38,9 +38,7 @@ impl Planner {
 
     fn within_limits(&self, q: &[Real]) -> bool {
         let (lo, hi) = (self.model.lower(), self.model.upper());
-        q.iter()
-            .enumerate()
-            .all(|(j, &x)| x >= lo[j] && x <= hi[j])
+        q.iter().enumerate().all(|(j, &x)| x >= lo[j] && x <= hi[j])
     }
 
     /// The self-motion path from `from` to `to` at the straight rod with the rod held (module

@@ -76,10 +76,7 @@ fn seconds(flag: &str, x: f64, max: f64) -> anyhow::Result<f64> {
 pub fn run(args: Args) -> anyhow::Result<()> {
     // Every input is read and checked before anything is written.
     let session_h = seconds("--session-hours", args.session_hours, 24.0 * 365.0)?;
-    anyhow::ensure!(
-        session_h > 0.0,
-        "invalid --session-hours 0: must be > 0"
-    );
+    anyhow::ensure!(session_h > 0.0, "invalid --session-hours 0: must be > 0");
     let handling = Handling {
         unclamp_s: seconds("--unclamp-seconds", args.unclamp_seconds, 86_400.0)?,
         clamp_move_s: seconds("--clamp-move-seconds", args.clamp_move_seconds, 86_400.0)?,
@@ -125,7 +122,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 &std::fs::read(dir.join("assignment.csv"))
                     .with_context(|| format!("{}", dir.join("assignment.csv").display()))?,
             );
-            (planners, rays, unplanned, format!("layout assignment {digest}"))
+            (
+                planners,
+                rays,
+                unplanned,
+                format!("layout assignment {digest}"),
+            )
         }
         None => {
             let dirs = args.dirs.load()?;

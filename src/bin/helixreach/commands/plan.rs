@@ -14,6 +14,7 @@ use super::args::RigOverrideArgs;
 use anyhow::Context;
 use helixreach::directions::Direction;
 use helixreach::io::Output;
+use helixreach::planning::campaign::plan_run;
 use helixreach::planning::planner::{Planner, ReachClass};
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::records::trajectory::{
@@ -141,12 +142,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let t0 = std::time::Instant::now();
     // The bifurcation type decides the margin past s* only when the rig's margins differ.
-    let kind = if planner.rig().planner.type_dependent() {
-        Some(helixreach::bifurcation::planning_type(&dir)?)
-    } else {
-        None
-    };
-    let plan = planner.plan_best_typed(&dir, s_star, kind, &azimuths, roll, true)?;
+    let plan = plan_run(&planner, &dir, s_star, &azimuths, roll)?;
     let dt = t0.elapsed().as_secs_f64();
     let assumed = plan.assumed_type.map_or("any", |t| t.name());
     if plan.class != ReachClass::Testable && !args.allow_partial {
