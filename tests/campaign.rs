@@ -377,3 +377,48 @@ fn a_layout_with_a_missing_rig_file_is_an_error_and_writes_nothing() {
     );
     assert!(!out.exists());
 }
+
+/// The campaign folder is the same for one and two threads: the run list, the totals and every
+/// run and move file.
+#[test]
+fn the_same_campaign_for_one_and_two_threads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dirs = directions_file(tmp.path(), &TESTABLE);
+    let mut folders = Vec::new();
+    for n in ["1", "2"] {
+        let out = tmp.path().join(format!("camp{n}"));
+        let o = helixreach(&[
+            "--quiet",
+            "--threads",
+            n,
+            "campaign",
+            "--directions",
+            dirs.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        folders.push(out);
+    }
+    let list = read_csv(&folders[0].join("campaign.csv"));
+    let mut files = vec!["campaign.csv".to_string(), "rays.csv".to_string()];
+    for r in &list {
+        for k in ["file", "ros2_file", "transition_file"] {
+            if !r[k].is_empty() {
+                files.push(r[k].clone());
+            }
+        }
+    }
+    assert!(files.len() >= 8, "{files:?}");
+    for f in &files {
+        assert_eq!(
+            std::fs::read(folders[0].join(f)).unwrap(),
+            std::fs::read(folders[1].join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    let json = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("campaign.json")).unwrap()).unwrap()
+    };
+    assert_eq!(json(&folders[0])["total_s"], json(&folders[1])["total_s"]);
+}

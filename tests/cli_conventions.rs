@@ -215,7 +215,7 @@ fn version_names_the_commit() {
 fn one_margin_rule_everywhere() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let cmds: [&[&str]; 3] = [
+    let cmds: [&[&str]; 4] = [
         &["reach", "--fibonacci", "2", "--out", "r.csv"],
         &[
             "layout",
@@ -227,6 +227,7 @@ fn one_margin_rule_everywhere() {
             "lay",
         ],
         &["plan", "--direction", "1,0,0", "--out", "p.csv"],
+        &["campaign", "--fibonacci", "2", "--out", "camp"],
     ];
     for cmd in cmds {
         for bad in ["-0.1", "1.5", "NaN", "x"] {
