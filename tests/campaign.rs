@@ -226,11 +226,15 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--resume"));
     let before = std::fs::read(out.join("campaign.csv")).unwrap();
+    // A file an earlier campaign left in runs/ is removed; the run files stay.
+    std::fs::write(out.join("runs/d999.csv"), "t\n0\n").unwrap();
     let mut resumed = args.to_vec();
     resumed.push("--resume");
     let o = helixreach(&resumed);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(std::fs::read(out.join("campaign.csv")).unwrap(), before);
+    assert!(!out.join("runs/d999.csv").exists());
+    assert_eq!(std::fs::read_dir(out.join("runs")).unwrap().count(), 3 * 4);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("campaign.json")).unwrap()).unwrap();
     assert_eq!(

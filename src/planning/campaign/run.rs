@@ -17,7 +17,8 @@
 //! least), `p<k>_d<i>` for placement k of a layout. Resuming (`resume`) continues `rays.csv`
 //! (its checkpoint) when its settings record matches, and recomputes the rest (order, moves,
 //! sessions: the session length and handling times may change between resumes); `force`
-//! replaces a finished campaign (run files of rays no longer testable are left in `runs/`).
+//! replaces a finished campaign. Files in `runs/` and `transitions/` that the new run list does
+//! not name are removed once it is written.
 
 use super::{
     joints_text, move_time, order_tour, parse_joints, plan_run, plan_transition, schedule,
@@ -299,6 +300,39 @@ fn read_rays(path: &Path) -> Result<Vec<Planned>> {
     Ok(out)
 }
 
+/// Remove the files of `runs/` and `transitions/` that `rows` does not name (with their
+/// sidecars): left by an earlier campaign in the folder (`force`, or a resume with another
+/// session split). Only names this module writes (`.csv`, `.json`, `.meta.json`) are removed.
+fn remove_stale(folder: &Path, rows: &[CampaignRecord]) -> Result<()> {
+    let mut keep = std::collections::HashSet::new();
+    for r in rows {
+        for f in [&r.file, &r.ros2_file, &r.transition_file] {
+            if !f.is_empty() {
+                keep.insert(f.clone());
+                keep.insert(format!("{f}.meta.json"));
+            }
+        }
+    }
+    for sub in [RUNS_DIR, TRANSITIONS_DIR] {
+        let dir = folder.join(sub);
+        let entries = std::fs::read_dir(&dir).map_err(|source| Error::Io {
+            path: dir.clone(),
+            source,
+        })?;
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let ours = name.ends_with(".csv") || name.ends_with(".json");
+            if ours && e.path().is_file() && !keep.contains(&format!("{sub}/{name}")) {
+                std::fs::remove_file(e.path()).map_err(|source| Error::Io {
+                    path: e.path(),
+                    source,
+                })?;
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Run the campaign (module docs). Errors: the sweep's (an existing campaign without
 /// `resume`/`force`, settings that differ on resume, a planner failure), and the writes.
 pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<CampaignSummary> {
@@ -535,6 +569,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
     }
     let out = |name: &str| Output::new(folder.join(name)).force(true);
     out("campaign.csv").write(to_csv(&rows)?.as_bytes())?;
+    remove_stale(folder, &rows)?;
 
     let run_s: Real = blocks.iter().map(|b| b.1).sum();
     let transition_s: Real = transitions.iter().map(|t| t.motion_s).sum();

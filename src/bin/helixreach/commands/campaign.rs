@@ -18,6 +18,11 @@ use std::path::PathBuf;
 
 /// Arguments of `helixreach campaign`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = examples!(
+    "$ helixreach campaign --fibonacci 6 --quarter --session-hours 0.5 --out campaign",
+    "> helixreach campaign --rig sawyer-seed --fibonacci 173 --quarter --out campaign",
+    "> helixreach campaign --layout layout --out campaign"
+))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file (not with
     /// --layout, whose placements give the rigs).
