@@ -114,7 +114,9 @@ fn rig_init_writes_rigs_that_reach_accepts_for_a_6_and_a_7_dof_arm() {
             "{text}"
         );
         assert!(
-            text.contains("Collision model") && text.contains("padding = "),
+            text.contains("Collision model")
+                && text.contains("padding = ")
+                && text.contains("collision_model = \"primitives_then_hull\""),
             "{text}"
         );
         assert!(!text.contains("\n[[obstacle]]"), "{text}");

@@ -6,7 +6,8 @@
 //! # What is written
 //! - `[robot]`: the URDF (absolute path, or a built-in robot name as given), the tip link, the
 //!   package directories for `package://` meshes (absolute), the links without collision
-//!   geometry, the padding of every collision body, the SRDF (if given).
+//!   geometry, the collision model (`primitives_then_hull`: fitted capsules as a broad phase,
+//!   then the exact hulls), the padding of every collision body, the SRDF (if given).
 //! - `[tool]`: the rod end [`RigInitOptions::tool_offset`] metres out of the tip link along its
 //!   z axis (no rotation): the flange → motor-tip distance, to be measured on the real tool.
 //! - `[rod]`: the seed's nitinol rod (1/16 in diameter, E = 67.5 GPa, ν = 0.33,
@@ -188,10 +189,9 @@ fn rig_text(
         list(&o.no_collision)
     ));
     t.push_str(
-        "# Collision model: every <collision> element of the URDF, meshes as their exact convex\n\
-         # hulls, primitives as they are; link pairs joined by a joint are not checked, nor the\n\
-         # pairs the SRDF disables. Every body is grown by `padding` (m); per link:\n\
-         # [robot.link_padding] NAME = m.\n",
+        "# Collision model: every <collision> element of the URDF, primitives as they are; link\n\
+         # pairs joined by a joint are not checked, nor the pairs the SRDF disables. Every body\n\
+         # is grown by `padding` (m); per link: [robot.link_padding] NAME = m.\n",
     );
     t.push_str(&format!("padding = {}\n", num(o.padding)));
     t.push_str(&format!(
