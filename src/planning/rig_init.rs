@@ -100,6 +100,8 @@ pub struct Candidate {
     pub starts: usize,
     /// Score directions with a valid end pose (of [`SCORE_DIRECTIONS`]).
     pub score: usize,
+    /// Why the planner refused the candidate (no valid start), if it did.
+    pub refused: Option<String>,
 }
 
 /// The rig written by [`rig_init`].
@@ -356,12 +358,16 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
         .map(|o| {
             let rig = probe(rod_length, *o, &note(o))?;
             let margin = rig.planner.margin;
-            let Ok(planner) = Planner::new(rig) else {
-                return Ok(Candidate {
-                    origin: *o,
-                    starts: 0,
-                    score: 0,
-                });
+            let planner = match Planner::new(rig) {
+                Ok(p) => p,
+                Err(e) => {
+                    return Ok(Candidate {
+                        origin: *o,
+                        starts: 0,
+                        score: 0,
+                        refused: Some(e.to_string()),
+                    })
+                }
             };
             let starts = planner.start_configurations(RollMode::Fixed).len();
             let mut score = 0;
@@ -379,6 +385,7 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
                 origin: *o,
                 starts,
                 score,
+                refused: None,
             })
         })
         .collect();
@@ -395,11 +402,12 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
                 format!("{} (tip {})", opts.robot, opts.tip_link),
                 format!(
                     "no clamp candidate in front of the robot where it holds the straight {rod_length} m \
-                     rod without collision ({} tried, {:.3}..{:.3} m in front of the first joint); \
-                     try --rod-length or --tool-offset",
+                     rod without collision ({} tried, {:.3}..{:.3} m in front of the first joint; \
+                     the first: {}); try --rod-length, --tool-offset, --padding or --srdf",
                     candidates.len(),
                     REACH_FRACTIONS[0] * reach_sampled,
-                    REACH_FRACTIONS[REACH_FRACTIONS.len() - 1] * reach_sampled
+                    REACH_FRACTIONS[REACH_FRACTIONS.len() - 1] * reach_sampled,
+                    candidates[0].refused.as_deref().unwrap_or("-")
                 ),
             )
         })?;
