@@ -115,6 +115,16 @@ fn quiet_prints_nothing_on_stderr() {
         ][..],
         &["merge", "--out", "m.csv", "s0.csv", "s1.csv"][..],
         &["ik", "--robot", "sawyer", "--pose", "0.6,0.1,0.3,0,1,0,0"][..],
+        &[
+            "rig",
+            "init",
+            "--robot",
+            "panda",
+            "--tip",
+            "fer_link8",
+            "--out",
+            "rig.toml",
+        ][..],
     ] {
         let mut a = vec!["--quiet"];
         a.extend(cmd);

@@ -114,7 +114,9 @@ fn rig_init_writes_rigs_that_reach_accepts_for_a_6_and_a_7_dof_arm() {
             "{text}"
         );
         assert!(
-            text.contains("Collision model") && text.contains("padding = "),
+            text.contains("Collision model")
+                && text.contains("padding = ")
+                && text.contains("collision_model = \"primitives_then_hull\""),
             "{text}"
         );
         assert!(!text.contains("\n[[obstacle]]"), "{text}");
@@ -400,4 +402,38 @@ fn ik_of_a_6_dof_arm_lists_its_branches() {
         }
     }
     assert!(branches.len() <= 8, "{} branches", branches.len());
+}
+
+/// No candidate holds the rod (a 4 m rod: its end is out of any arm's reach): an error saying
+/// so with the planner's reason at the first candidate, and no file.
+#[test]
+fn rig_init_without_a_clamp_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("none.toml");
+    let urdf = robots::urdf(arm("panda"));
+    let pkg = robots::package_dir();
+    let o = helixreach(&[
+        "rig",
+        "init",
+        "--robot",
+        urdf.to_str().unwrap(),
+        "--tip",
+        "panda_link8",
+        "--package-path",
+        pkg.to_str().unwrap(),
+        "--rod-length",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    for s in [
+        "no clamp candidate",
+        "straight 4 m rod",
+        "dominant cause: no_ik",
+    ] {
+        assert!(err.contains(s), "missing {s:?}: {err}");
+    }
+    assert!(!out.exists());
 }

@@ -6,7 +6,8 @@
 //! # What is written
 //! - `[robot]`: the URDF (absolute path, or a built-in robot name as given), the tip link, the
 //!   package directories for `package://` meshes (absolute), the links without collision
-//!   geometry, the padding of every collision body, the SRDF (if given).
+//!   geometry, the collision model (`primitives_then_hull`: fitted capsules as a broad phase,
+//!   then the exact hulls), the padding of every collision body, the SRDF (if given).
 //! - `[tool]`: the rod end [`RigInitOptions::tool_offset`] metres out of the tip link along its
 //!   z axis (no rotation): the flange → motor-tip distance, to be measured on the real tool.
 //! - `[rod]`: the seed's nitinol rod (1/16 in diameter, E = 67.5 GPa, ν = 0.33,
@@ -99,6 +100,8 @@ pub struct Candidate {
     pub starts: usize,
     /// Score directions with a valid end pose (of [`SCORE_DIRECTIONS`]).
     pub score: usize,
+    /// Why the planner refused the candidate (no valid start), if it did.
+    pub refused: Option<String>,
 }
 
 /// The rig written by [`rig_init`].
@@ -188,10 +191,9 @@ fn rig_text(
         list(&o.no_collision)
     ));
     t.push_str(
-        "# Collision model: every <collision> element of the URDF, meshes as their exact convex\n\
-         # hulls, primitives as they are; link pairs joined by a joint are not checked, nor the\n\
-         # pairs the SRDF disables. Every body is grown by `padding` (m); per link:\n\
-         # [robot.link_padding] NAME = m.\n",
+        "# Collision model: every <collision> element of the URDF, primitives as they are; link\n\
+         # pairs joined by a joint are not checked, nor the pairs the SRDF disables. Every body\n\
+         # is grown by `padding` (m); per link: [robot.link_padding] NAME = m.\n",
     );
     t.push_str(&format!("padding = {}\n", num(o.padding)));
     t.push_str(&format!(
@@ -356,12 +358,16 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
         .map(|o| {
             let rig = probe(rod_length, *o, &note(o))?;
             let margin = rig.planner.margin;
-            let Ok(planner) = Planner::new(rig) else {
-                return Ok(Candidate {
-                    origin: *o,
-                    starts: 0,
-                    score: 0,
-                });
+            let planner = match Planner::new(rig) {
+                Ok(p) => p,
+                Err(e) => {
+                    return Ok(Candidate {
+                        origin: *o,
+                        starts: 0,
+                        score: 0,
+                        refused: Some(e.to_string()),
+                    })
+                }
             };
             let starts = planner.start_configurations(RollMode::Fixed).len();
             let mut score = 0;
@@ -379,6 +385,7 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
                 origin: *o,
                 starts,
                 score,
+                refused: None,
             })
         })
         .collect();
@@ -395,11 +402,12 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
                 format!("{} (tip {})", opts.robot, opts.tip_link),
                 format!(
                     "no clamp candidate in front of the robot where it holds the straight {rod_length} m \
-                     rod without collision ({} tried, {:.3}..{:.3} m in front of the first joint); \
-                     try --rod-length or --tool-offset",
+                     rod without collision ({} tried, {:.3}..{:.3} m in front of the first joint; \
+                     the first: {}); try --rod-length, --tool-offset, --padding or --srdf",
                     candidates.len(),
                     REACH_FRACTIONS[0] * reach_sampled,
-                    REACH_FRACTIONS[REACH_FRACTIONS.len() - 1] * reach_sampled
+                    REACH_FRACTIONS[REACH_FRACTIONS.len() - 1] * reach_sampled,
+                    candidates[0].refused.as_deref().unwrap_or("-")
                 ),
             )
         })?;
