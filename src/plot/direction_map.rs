@@ -203,7 +203,7 @@ impl Figure for DirectionMap {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
         let root = root.titled(
-            "Search directions by reachability (equal-area map of the half-sphere κ ≥ 0)",
+            "Directions by reachability (equal-area map, κ ≥ 0)",
             (FAMILY, style::TITLE),
         )?;
         let font = |s: f64| style::text(s);
