@@ -10,17 +10,7 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// One bar of the timeline.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Bar {
-    /// Session (1-based).
-    pub session: usize,
-    /// Start from the session's start (s).
-    pub start_s: f64,
-    /// End from the session's start (s).
-    pub end_s: f64,
-    /// Placement (1-based) of a run; `None` for a move.
-    pub placement: Option<usize>,
-}
+pub use crate::planning::campaign::TimelineBar as Bar;
 
 /// Render the timeline into `out` (`.png` or `.svg`); `session_s` the session length (a dashed
 /// line).

@@ -61,6 +61,20 @@ use crate::planning::trajectory::{time_parametrize, Phase, TimingLimits, Traject
 use std::path::{Path, PathBuf};
 
 mod run;
+
+/// One bar of the campaign timeline (`timeline.png`, drawn with the `plots` feature): a run,
+/// or the move and handling before it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimelineBar {
+    /// Session (1-based).
+    pub session: usize,
+    /// Start from the session's start (s).
+    pub start_s: f64,
+    /// End from the session's start (s).
+    pub end_s: f64,
+    /// Placement (1-based) of a run; `None` for a move.
+    pub placement: Option<usize>,
+}
 pub use run::{
     run_campaign, CampaignInput, CampaignOptions, CampaignSummary, Ray, SessionSummary, Unplanned,
 };

@@ -11,7 +11,7 @@
 //! | `transitions/<order>.csv` | the move into run `order` (`t`, the joints by URDF name, `motor`), when the robot moves |
 //! | `campaign.csv` | the runs in execution order, then the rays that are not testable ([`CampaignRecord`]) |
 //! | `campaign.json` | the totals ([`CampaignSummary`]) |
-//! | `timeline.png` | the sessions ([`crate::plot::campaign_timeline`]) |
+//! | `timeline.png` | the sessions (`plot::campaign_timeline`; with the `plots` feature) |
 //!
 //! `<name>` is `d<i>` (i the 0-based index of the direction in the input set, three digits at
 //! least), `p<k>_d<i>` for placement k of a layout. Resuming (`resume`) continues `rays.csv`
@@ -470,7 +470,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
         let slot = slots[k];
         let pre = t.motion_s + t.handling_s;
         if pre > 0.0 {
-            bars.push(crate::plot::campaign_timeline::Bar {
+            bars.push(super::TimelineBar {
                 session: slot.session,
                 start_s: slot.start_s - pre,
                 end_s: slot.start_s,
@@ -478,7 +478,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
             });
         }
         let dur = run.map_or(0.0, |r| r.duration);
-        bars.push(crate::plot::campaign_timeline::Bar {
+        bars.push(super::TimelineBar {
             session: slot.session,
             start_s: slot.start_s,
             end_s: slot.start_s + dur,
@@ -606,6 +606,9 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
     let json = serde_json::to_string_pretty(&summary)
         .map_err(|e| Error::invalid("campaign.json", "", e.to_string()))?;
     out("campaign.json").write(json.as_bytes())?;
+    #[cfg(not(feature = "plots"))]
+    let _ = &bars;
+    #[cfg(feature = "plots")]
     if !bars.is_empty() {
         let png = folder.join("timeline.png");
         if png.exists() {
