@@ -25,6 +25,7 @@ fn srdf_of(arm: &str) -> Option<&'static str> {
         "panda" => Some("panda_description/srdf/panda.srdf"),
         "xarm7" => Some("xarm_description/srdf/xarm7.srdf"),
         "kinova" => Some("kinova_description/srdf/kinova.srdf"),
+        "baxter_right" => Some("baxter_description/srdf/baxter_manipulation.srdf"),
         _ => None,
     }
 }
