@@ -328,6 +328,13 @@ pub fn opt_real<S: serde::Serializer>(
     }
 }
 
+/// Test helper: `R::HEADER` names `r`'s serde fields in order, one field per column.
+#[cfg(test)]
+pub(crate) fn header_matches<R: CsvRecord>(r: &R) {
+    assert_eq!(field_names(r).unwrap(), R::HEADER, "header vs serde fields");
+    assert_eq!(fields(r).unwrap().len(), R::HEADER.len());
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -336,10 +343,7 @@ mod tests {
     use crate::records::series::{PhasedSeriesRecord, SeriesRecord};
     use crate::records::{DirColumns, SpeedErrorRow};
 
-    fn header_matches<R: CsvRecord>(r: &R) {
-        assert_eq!(field_names(r).unwrap(), R::HEADER, "header vs serde fields");
-        assert_eq!(fields(r).unwrap().len(), R::HEADER.len());
-    }
+    use super::header_matches;
 
     fn series() -> SeriesRecord {
         SeriesRecord {

@@ -251,12 +251,7 @@ impl CsvRecord for ReferenceRecord {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use csv_out::{field_names, fields, to_csv};
-
-    fn header_matches<R: CsvRecord>(r: &R) {
-        assert_eq!(field_names(r).unwrap(), R::HEADER, "header vs serde fields");
-        assert_eq!(fields(r).unwrap().len(), R::HEADER.len());
-    }
+    use csv_out::{fields, header_matches, to_csv};
 
     /// Every layout record's header names its serde fields, in order.
     #[test]
