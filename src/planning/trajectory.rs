@@ -41,9 +41,10 @@
 //! path parametrization gives a smooth profile that tends to the continuous optimum as the steps
 //! shrink (rest to rest on a line: the bang-bang time 2·√(D/A) within 3 % on 240 uneven steps, a
 //! unit test). Applying the speed bound at the points (the slower neighbour's) costs a segment
-//! beside a slower one a little of its own bound: 1.6 % of a seed run's duration. Limits are used
-//! times (1 − 10⁻⁶) so that the written file's own finite differences stay within them. Cost:
-//! O(n · channels · 80) per trajectory, no allocation per segment.
+//! beside a slower one a little of its own bound (1.6 % of the least duration of the seed rig's
+//! run along (1, 1, 1)). Limits are used times (1 − 10⁻⁶) so that the written file's own finite
+//! differences stay within them. Cost: O(n · channels · 80) per trajectory, no allocation per
+//! segment.
 //!
 //! Each point stores the velocity of the quadratic through it and its neighbours (the
 //! segment velocities weighted by the opposite segment's duration; zero at a stop) and the
