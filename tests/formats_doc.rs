@@ -7,7 +7,8 @@ use helixreach::records::csv_out::CsvRecord;
 use helixreach::records::{
     bifurcation::BifurcationRecord, boundary::BoundaryRecord, centerline::CenterlineRecord,
     check::CheckRowRecord, compare::ComparisonRecord, detect::DetectRunRecord,
-    detect::DetectSampleRecord, layout::AssignmentRecord, layout::CandidateRecord,
+    detect::DetectSampleRecord, helix_points::HelixPointMatrixRecord,
+    helix_points::HelixPointRecord, layout::AssignmentRecord, layout::CandidateRecord,
     layout::CoverageRecord, layout::PlacementRecord, layout::RayRecord, reach::ReachRecord,
     render::RenderFrameRecord, series::PhasedSeriesRecord,
 };
@@ -35,7 +36,7 @@ fn every_output_column_is_explained() {
                     .is_some_and(|p| !p.is_empty() && col.starts_with(p))
         })
     };
-    let headers: [(&str, &[&str]); 15] = [
+    let headers: [(&str, &[&str]); 17] = [
         ("boundary", BoundaryRecord::HEADER),
         ("reach", ReachRecord::HEADER),
         ("bifurcation", BifurcationRecord::HEADER),
@@ -51,6 +52,8 @@ fn every_output_column_is_explained() {
         ("layout assignment", AssignmentRecord::HEADER),
         ("layout coverage", CoverageRecord::HEADER),
         ("render frames", RenderFrameRecord::HEADER),
+        ("helix --points", HelixPointRecord::HEADER),
+        ("helix --points --matrix", HelixPointMatrixRecord::HEADER),
     ];
     let missing: Vec<String> = headers
         .iter()

@@ -748,6 +748,27 @@ fn cli_prints_the_end_pose_as_json() {
     for i in 0..3 {
         assert!(close(pos[i], p.position[i]), "{pos:?}");
     }
+    // Default: the frames as unit quaternions (scalar first, qw ≥ 0): rebuilt as matrices they
+    // equal the library's frames.
+    for (key, m) in [
+        ("material_wxyz", &p.material),
+        ("transported_wxyz", &p.transported),
+    ] {
+        let q: [f64; 4] = serde_json::from_value(v[key].clone()).unwrap();
+        assert!(q[0] >= 0.0 && (q.iter().map(|x| x * x).sum::<f64>() - 1.0).abs() < 1e-14);
+        let r = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            q[0], q[1], q[2], q[3],
+        ))
+        .to_rotation_matrix();
+        assert!((r.matrix() - m).amax() < 1e-14, "{key}");
+    }
+    assert!(v.get("material_rows").is_none());
+    // --matrix: the rows themselves.
+    let out = cli(&[
+        "helix", "--kappa", "3.1", "--tau", "-2", "--omega", "1.5", "--nu", "0.25", "--length",
+        "0.51", "--matrix",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let rows: [[f64; 3]; 3] = serde_json::from_value(v["material_rows"].clone()).unwrap();
     let rows_t: [[f64; 3]; 3] = serde_json::from_value(v["transported_rows"].clone()).unwrap();
     for i in 0..3 {
@@ -768,6 +789,7 @@ fn cli_prints_the_end_pose_as_json() {
         "0",
         "--omega",
         "0",
+        "--matrix",
     ]);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let pos: Vec<f64> = serde_json::from_value(v["position"].clone()).unwrap();
@@ -791,20 +813,52 @@ fn cli_points_csv_roundtrips_with_17_digits_and_names_bad_lines() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "kappa,tau,omega,px,py,pz,r00,r01,r02,r10,r11,r12,r20,r21,r22,motor_angle"
+        "kappa,tau,omega,x,y,z,qw,qx,qy,qz,motor_angle"
     );
     let inputs = [(1.0, 2.0, 3.0), (0.0, 0.0, 0.0), (7.5, -1e-9, -4.0)];
+    let mant_17 = |x: &str| {
+        // d.dddddddddddddddde±x: 17 significant digits
+        let mant = x.trim_start_matches('-').split('e').next().unwrap();
+        assert_eq!(mant.len(), 18, "{x}");
+    };
     for (line, &(k, t, w)) in lines.by_ref().zip(&inputs) {
         let f: Vec<&str> = line.split(',').collect();
-        assert_eq!(f.len(), 16);
-        for x in &f {
-            // d.dddddddddddddddde±x: 17 significant digits
-            let mant = x.trim_start_matches('-').split('e').next().unwrap();
-            assert_eq!(mant.len(), 18, "{x}");
-        }
+        assert_eq!(f.len(), 11);
+        f.iter().for_each(|x| mant_17(x));
         let v: Vec<f64> = f.iter().map(|x| x.parse().unwrap()).collect();
         let p = Helix::new(k, t, w).unwrap().end_pose(1.0, 0.3).unwrap();
         assert_eq!(&v[..3], &[k, t, w]);
+        assert_eq!(&v[3..6], p.position.as_slice());
+        assert!(v[6] >= 0.0);
+        let r = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            v[6], v[7], v[8], v[9],
+        ))
+        .to_rotation_matrix();
+        assert!((r.matrix() - p.material).amax() < 1e-14);
+        assert_eq!(v[10], p.motor_angle);
+    }
+    assert!(lines.next().is_none());
+    // --matrix: the material frame row-major, exactly.
+    let out = cli(&[
+        "helix",
+        "--points",
+        path.to_str().unwrap(),
+        "--nu",
+        "0.3",
+        "--matrix",
+    ]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "kappa,tau,omega,x,y,z,r00,r01,r02,r10,r11,r12,r20,r21,r22,motor_angle"
+    );
+    for (line, &(k, t, w)) in lines.by_ref().zip(&inputs) {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f.len(), 16);
+        f.iter().for_each(|x| mant_17(x));
+        let v: Vec<f64> = f.iter().map(|x| x.parse().unwrap()).collect();
+        let p = Helix::new(k, t, w).unwrap().end_pose(1.0, 0.3).unwrap();
         assert_eq!(&v[3..6], p.position.as_slice());
         for i in 0..3 {
             for j in 0..3 {
