@@ -704,3 +704,56 @@ fn disabled_pair_sampling_works_on_mesh_robots() {
         }
     }
 }
+
+/// A `robot --write-disabled` file names the command that regenerates it with every load option
+/// it was made with (tool link, package path, samples, seed): run as written (with `--force`),
+/// that line reproduces the file byte for byte.
+#[test]
+fn a_disabled_pairs_file_names_the_command_that_regenerates_it() {
+    let arm = ARMS.iter().find(|a| a.name == "panda").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("panda.pairs.toml");
+    let bin = env!("CARGO_BIN_EXE_helixreach");
+    let urdf = robots::urdf(arm);
+    let pkg = robots::package_dir();
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(bin).args(args).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run(&[
+        "--quiet",
+        "robot",
+        "--robot",
+        urdf.to_str().unwrap(),
+        "--tip",
+        arm.tip,
+        "--package-path",
+        pkg.to_str().unwrap(),
+        "--samples",
+        "10000",
+        "--seed",
+        "7",
+        "--write-disabled",
+        out.to_str().unwrap(),
+    ]);
+    let first = std::fs::read_to_string(&out).unwrap();
+    let line = first
+        .lines()
+        .find_map(|l| l.strip_prefix("# Regenerate: "))
+        .expect("a Regenerate line");
+    for needle in [
+        format!("--tip {}", arm.tip),
+        format!("--package-path {}", pkg.display()),
+        "--samples 10000".into(),
+        "--seed 7".into(),
+    ] {
+        assert!(line.contains(&needle), "{needle} missing from: {line}");
+    }
+    let words: Vec<&str> = line.split_whitespace().collect();
+    assert_eq!(words[0], "helixreach");
+    let mut again: Vec<&str> = vec!["--quiet"];
+    again.extend(&words[1..]);
+    again.push("--force");
+    run(&again);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), first);
+}

@@ -252,16 +252,21 @@ impl DisabledPairs {
         })
     }
 
-    /// The TOML text (with a header saying how to regenerate it).
-    pub fn to_toml(&self, robot: &str) -> String {
+    /// The TOML text, with a header naming the robot and the command that regenerates it
+    /// (`regenerate`: the full `helixreach robot …` line, with the load options it was made
+    /// with: tool link, package paths, links without collision geometry, samples and seed).
+    pub fn to_toml(&self, robot: &str, regenerate: &str) -> Result<String> {
         let mut s = format!(
             "# Link pairs of {robot} never checked for self-collision (like an SRDF's disabled\n\
              # collisions), besides links joined by a joint or rigidly attached to each other.\n\
              # \"never\": not in collision in any of the random in-limit samples; \"always\": in all.\n\
-             # Regenerate: helixreach robot --robot {robot} --write-disabled FILE [--samples N]\n"
+             # Regenerate: {regenerate}\n"
         );
-        s.push_str(&toml::to_string(self).unwrap_or_default());
-        s
+        let body = toml::to_string(self).map_err(|e| {
+            Error::invalid("disabled pairs", self.disabled.len(), format!("TOML: {e}"))
+        })?;
+        s.push_str(&body);
+        Ok(s)
     }
 }
 

@@ -54,6 +54,39 @@ fn shape_text(s: &Shape) -> String {
     }
 }
 
+/// The `helixreach robot` line that regenerates a `--write-disabled` file: the robot, tool
+/// link, load options, samples and seed it was made with (arguments with characters a shell
+/// would split or expand are single-quoted).
+fn regenerate_line(args: &Args, path: &std::path::Path) -> String {
+    let quote = |a: &str| -> String {
+        let plain = !a.is_empty()
+            && a.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_./:=,+@%".contains(c));
+        if plain {
+            a.to_string()
+        } else {
+            format!("'{}'", a.replace('\'', "'\\''"))
+        }
+    };
+    let mut line = format!("helixreach robot --robot {}", quote(&args.robot));
+    if let Some(tip) = &args.tip {
+        line += &format!(" --tip {}", quote(tip));
+    }
+    for p in &args.load.package_path {
+        line += &format!(" --package-path {}", quote(&p.to_string_lossy()));
+    }
+    for l in &args.load.no_collision {
+        line += &format!(" --no-collision {}", quote(l));
+    }
+    line += &format!(
+        " --samples {} --seed {} --write-disabled {}",
+        args.samples,
+        args.seed,
+        quote(&path.to_string_lossy())
+    );
+    line
+}
+
 /// The `--write-disabled` output: never onto the URDF read.
 fn disabled_out(args: &Args, path: &std::path::Path) -> helixreach::io::Output {
     helixreach::io::Output::new(path)
@@ -143,7 +176,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(path) = &args.write_disabled {
         let d = DisabledPairs::compute(&m, args.samples, args.seed)?;
         let name = m.source().strip_prefix("builtin:").unwrap_or(m.source());
-        disabled_out(&args, path).write(d.to_toml(name).as_bytes())?;
+        let text = d.to_toml(name, &regenerate_line(&args, path))?;
+        disabled_out(&args, path).write(text.as_bytes())?;
         status!(
             "wrote {} disabled pairs ({} samples) to {}",
             d.disabled.len(),
