@@ -25,6 +25,11 @@
 //! first slice, to cover that slice's valid set), to j + 1 ≤ cap where s ≤ s* (a reversed
 //! back-off).
 //!
+//! A node reached across slices (a load or back-off edge from its parent) goes back to its
+//! parent's slice by that edge reversed: the same joint-linear segment, checked against the same
+//! rod, within the same step bound, so it is an edge of the graph and the parent is already a
+//! node. That move is not tracked again.
+//!
 //! # Bound
 //! At most `planner.max_search_nodes` nodes (each ≈ 100 bytes): a search that would create more
 //! stops and the ray is `undecided` (never a guessed class).
@@ -244,7 +249,22 @@ impl Graph {
                 _ => {}
             },
         }
+        // A node reached across slices returns to its parent's slice by the edge it came by
+        // (the same segment, checked the same way in both directions): no track for it.
+        let n = &self.nodes[id as usize];
+        let came_from = match n.via {
+            Via::Load | Via::Backoff => Some(self.nodes[n.parent as usize].c.slice),
+            Via::Start | Via::Reconfigure => None,
+        };
         for &mv in &moves[..n_moves] {
+            let to = match mv {
+                Move::Load => Some(slice + 1),
+                Move::Backoff => slice.checked_sub(1),
+                Move::Walk(_) | Move::Roll(_) => None,
+            };
+            if to.is_some() && to == came_from {
+                continue;
+            }
             let counted = dir == Direction::Forward && mv == Move::Load;
             let y = match linker.propose(&x, mv, &|c| self.find(c).is_some()) {
                 Ok(Some(y)) => y,
