@@ -9,13 +9,16 @@
 //! grid-like cover of h × `ROLL_STEP` (roll `motor`), or by its isolated points (6-DOF).
 //!
 //! # Order
-//! Nodes wait in a priority queue keyed by (slice, move kind, insertion order), largest first;
-//! a node is queued once for its load move, then for its moves inside the slice, then (stage
-//! 2) for its back-off move. The search drives forward as long as it can (a testable ray costs about one node per slice) and falls
-//! back to the farthest unexpanded node when blocked (a reconfiguration there, or a back-off).
-//! When the queue empties the reachable piece is exhausted: every node reachable from the starts
-//! at this resolution has been expanded, and the farthest slice among them is the ray's
-//! `s_reached` (the certificate).
+//! Nodes wait in a priority queue keyed by (probe, slice, move kind, insertion order), largest
+//! first; a node is queued once for its load move, then for its moves inside the slice, then
+//! (stage 2) for its back-off move. **Probe chains** come first: a few start configurations of
+//! every start component (the caller marks them) and the nodes their load steps make; each probe
+//! chain is driven forward until it is blocked, like one tracked branch. Then the search drives
+//! forward from the farthest unexpanded node (a testable ray costs about one node per slice) and
+//! falls back to reconfiguration or back-off when blocked. The order decides only how soon a path
+//! is found: every node is expanded in full before the queue empties. When the queue empties the
+//! reachable piece is exhausted: every node reachable from the starts at this resolution has
+//! been expanded, and the farthest slice among them is the ray's `s_reached` (the certificate).
 //!
 //! # Moves
 //! Load and (when the rig allows reconfiguration, and always at slice 0, where the rod is not
@@ -105,7 +108,11 @@ pub(crate) struct Graph {
     /// Nodes in insertion order.
     pub nodes: Vec<Node>,
     buckets: HashMap<(u32, i64), Vec<u32>>,
-    queue: BinaryHeap<(u32, u8, u32)>,
+    queue: BinaryHeap<(bool, u32, u8, u32)>,
+    /// Per node: on a probe chain (a probe start and its load steps).
+    probe: Vec<bool>,
+    /// Probe entries in the queue.
+    probing: usize,
     /// Rejected forward (load) moves per slice, by cause.
     pub causes: Vec<CauseCounts>,
     /// Farthest slice of any node.
@@ -137,6 +144,8 @@ impl Graph {
             nodes: Vec::new(),
             buckets: HashMap::new(),
             queue: BinaryHeap::new(),
+            probe: Vec::new(),
+            probing: 0,
             causes: vec![CauseCounts::default(); n_slices],
             farthest: 0,
             fresh: Vec::new(),
@@ -170,13 +179,26 @@ impl Graph {
         None
     }
 
-    /// Add a node and queue it.
+    /// Add a node and queue it (on a probe chain when its load step came from one).
     pub fn insert(&mut self, n: Node) -> u32 {
+        let probe = n.via == Via::Load && self.probe[n.parent as usize];
+        self.insert_as(n, probe)
+    }
+
+    /// Add a start node that begins a probe chain: its load steps are expanded before any
+    /// other move (module docs, "Order").
+    pub fn insert_probe(&mut self, n: Node) -> u32 {
+        self.insert_as(n, true)
+    }
+
+    fn insert_as(&mut self, n: Node, probe: bool) -> u32 {
         let id = self.nodes.len() as u32;
         let key = self.key(&n.c);
         self.buckets.entry(key).or_default().push(id);
         self.farthest = self.farthest.max(n.c.slice);
-        self.queue.push((n.c.slice, LOAD, id));
+        self.queue.push((probe, n.c.slice, LOAD, id));
+        self.probing += usize::from(probe);
+        self.probe.push(probe);
         self.nodes.push(n);
         id
     }
@@ -188,7 +210,12 @@ impl Graph {
 
     /// The slice of the next queued node (`None` when the queue is empty).
     pub fn top(&self) -> Option<u32> {
-        self.queue.peek().map(|e| e.0)
+        self.queue.peek().map(|e| e.1)
+    }
+
+    /// Whether probe chains are still queued.
+    pub fn probing(&self) -> bool {
+        self.probing > 0
     }
 
     /// Expand the next queued node (module docs). Returns `Some` when the search ends: a node
@@ -203,9 +230,10 @@ impl Graph {
         backoff_ok: &dyn Fn(u32) -> bool,
     ) -> Option<Outcome> {
         self.fresh.clear();
-        let Some((slice, kind, id)) = self.queue.pop() else {
+        let Some((probe, slice, kind, id)) = self.queue.pop() else {
             return Some(Outcome::Exhausted);
         };
+        self.probing -= usize::from(probe);
         let x = self.nodes[id as usize].c;
         let mut moves = [Move::Load; 4];
         let mut n_moves = 0;
@@ -222,7 +250,7 @@ impl Graph {
                     Direction::Forward => push(Move::Load),
                     Direction::Reverse { .. } => push(Move::Backoff),
                 }
-                self.queue.push((slice, INSIDE, id));
+                self.queue.push((false, slice, INSIDE, id));
             }
             INSIDE => {
                 let inside = match dir {
@@ -238,7 +266,7 @@ impl Graph {
                     }
                 }
                 if rules.backoff {
-                    self.queue.push((slice, BACK, id));
+                    self.queue.push((false, slice, BACK, id));
                 }
             }
             _ => match dir {

@@ -91,6 +91,9 @@ pub const MAX_SEARCH_BYTES: usize = 1 << 30;
 /// Redundancy-joint grid of the far-end slice's IK (rad).
 const LOCK_GRID: Real = 0.05;
 
+/// Start configurations per start component whose load chains are probed first.
+const PROBES: usize = 2;
+
 /// Random restarts of the far-end slice's IK.
 const CERT_RESTARTS: usize = 40;
 
@@ -181,7 +184,11 @@ impl Planner {
                     cert = None;
                 }
             }
-            if cert.is_none() && failed_at != f && fwd.top().is_some_and(|t| t < f) {
+            if cert.is_none()
+                && failed_at != f
+                && !fwd.probing()
+                && fwd.top().is_some_and(|t| t < f)
+            {
                 let mut b = Graph::new(slices.len(), self.dof, self.red_joint, fwd.merge_q());
                 for c in self.slice_configs(slices, linker, f + 1, roll, fwd)? {
                     if b.find(&c).is_none() {
@@ -351,22 +358,34 @@ impl Planner {
         let merge_q = MERGE_FRACTION * settings.self_motion_step;
         let mut linker = Linker::new(self, &slices)?;
         let mut graph = Graph::new(slices.len(), self.dof, self.red_joint, merge_q);
-        for n in set.comps.iter().flatten() {
-            let psi = match roll {
-                RollMode::Fixed => 0.0,
-                RollMode::Motor => -n.motor,
-            };
-            let c = Config {
-                slice: 0,
-                q: n.q,
-                psi,
-            };
-            if graph.find(&c).is_none() && linker.start_valid(&c) {
-                graph.insert(Node {
-                    c,
-                    parent: u32::MAX,
-                    via: Via::Start,
-                });
+        // Probe chains first: the last start (the first expanded) and the first `PROBES` of
+        // each start component (spread over it: farthest-point order).
+        let n_starts: usize = set.comps.iter().map(Vec::len).sum();
+        let mut k = 0;
+        for comp in &set.comps {
+            for (j, n) in comp.iter().enumerate() {
+                k += 1;
+                let psi = match roll {
+                    RollMode::Fixed => 0.0,
+                    RollMode::Motor => -n.motor,
+                };
+                let c = Config {
+                    slice: 0,
+                    q: n.q,
+                    psi,
+                };
+                if graph.find(&c).is_none() && linker.start_valid(&c) {
+                    let node = Node {
+                        c,
+                        parent: u32::MAX,
+                        via: Via::Start,
+                    };
+                    if j < PROBES || k == n_starts {
+                        graph.insert_probe(node);
+                    } else {
+                        graph.insert(node);
+                    }
+                }
             }
         }
         plan.start_samples = graph.nodes.len();
