@@ -11,20 +11,23 @@
 //! The search (submodule `graph`) floods that piece from every start configuration (the start set of
 //! the roll mode: every valid IK solution of the straight rod from many restarts with the
 //! redundancy joint locked on a grid, and the self-motion walks through them), best-first
-//! toward larger s. It returns either a path to the last slice (submodule `path`), or a **certificate**
+//! toward larger s, after driving a few probe chains (two starts per start component and their
+//! load steps, like tracked branches) as far as they go. It returns either a path to the last slice (submodule `path`), or a **certificate**
 //! that the ray's `s_reached` (the farthest slice F of the piece reachable from the starts)
 //! cannot be passed:
 //! - the forward piece exhausted (every node reachable from a start expanded), or
 //! - slice F + 1 has no valid configuration on any IK branch found (the redundancy joint locked
 //!   on a 0.05 rad grid, 4 seeds each, 40 random restarts, tracks from slice F), or
-//! - the **far-end search** is exhausted: once every node of slice F is expanded, a reverse
-//!   search starts from the valid set of slice F + 1 (the same IK sampling) along reversed
-//!   edges, never above F + 1, alternating with the forward search one node each. If it
-//!   exhausts without meeting a forward node (a configuration within the merge radius) and
-//!   without reaching s = 0 (every valid straight-rod configuration belongs to the start set's
-//!   components), no path from a start reaches slice F + 1, so F is final. A dead end behind a
-//!   small far piece is proven at the cost of that piece, not of the whole strip. If it meets
-//!   the forward piece, it is dropped and the forward search goes on.
+//! - the **far-end search** is exhausted: once the probe chains are done and every node of
+//!   slice F is expanded, a reverse search starts from the valid set of slice F + 1 (the same
+//!   IK sampling) along reversed edges, never above F + 1, one expansion per
+//!   `FORWARD_PER_REVERSE` (3) of the forward search (on rays with two large pieces the forward
+//!   search usually exhausts first). If it exhausts without meeting a forward node (a
+//!   configuration within the merge radius) and without reaching s = 0 (every valid
+//!   straight-rod configuration belongs to the start set's components), no path from a start
+//!   reaches slice F + 1, so F is final. A dead end behind a small far piece is proven at a few
+//!   times the cost of that piece, not of the whole strip. If it meets the forward piece, it is
+//!   dropped and the forward search goes on.
 //!
 //! # Resolution (what the answer is exact at)
 //! - **Slices**: the rig's pose-path waypoints (`planner.max_end_step`,
@@ -66,8 +69,13 @@
 //! one slice is refused when the planner is made ([`check_resolution`]).
 //!
 //! # Cost
-//! A testable ray costs about one track and one collision test per slice; a partial ray costs
-//! its whole reachable piece (nodes × ≈ 5 tracks and collision tests). Figures: `docs/RESULTS.md`.
+//! A ray costs its nodes × about 3 tracks and 6 collision tests (a node per self-motion step per
+//! slice of the pieces it visits; the move back to a node's parent slice is its own edge, not
+//! tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
+//! ray costs its reachable piece, or the far piece if that one is exhausted first: cheap when
+//! either is small, 120,000–230,000 nodes (2–4 s) when both are large regions of the strip
+//! below s* (different self-motion families); those few rays dominate a sweep's CPU.
+//! Figures: `docs/RESULTS.md`.
 
 pub(crate) mod graph;
 pub(crate) mod linking;
@@ -93,6 +101,9 @@ const LOCK_GRID: Real = 0.05;
 
 /// Start configurations per start component whose load chains are probed first.
 const PROBES: usize = 2;
+
+/// Forward expansions per expansion of the far-end search.
+const FORWARD_PER_REVERSE: u32 = 3;
 
 /// Random restarts of the far-end slice's IK.
 const CERT_RESTARTS: usize = 40;
@@ -167,6 +178,7 @@ impl Planner {
         // whose certificate failed (the reverse search met the forward piece).
         let mut cert: Option<(u32, Graph)> = None;
         let mut failed_at = u32::MAX;
+        let mut tick: u32 = 0;
         loop {
             if let Some(o) = fwd.step(linker, rules, last, Direction::Forward, backoff_ok) {
                 return Ok(o);
@@ -209,7 +221,8 @@ impl Planner {
                     cert = Some((f, b));
                 }
             }
-            if let Some((cf, b)) = &mut cert {
+            tick = tick.wrapping_add(1);
+            if let Some((cf, b)) = cert.as_mut().filter(|_| tick % FORWARD_PER_REVERSE == 0) {
                 let cap = *cf + 1;
                 match b.step(linker, rules, 0, Direction::Reverse { cap }, backoff_ok) {
                     // Nothing of the forward piece reaches slice cap: its farthest is final.
