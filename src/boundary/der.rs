@@ -237,9 +237,27 @@ pub const SHORTCUT_STRAIN_TO_SHORTENING: Real = 0.01;
 /// restarts from the nearly straight rod.
 const BRANCH_DEVIATION: Real = 0.02;
 
+/// Smallest increment of the weight (fraction of the full weight) of the gravity ramp of a
+/// cold start ([`DerRay::set_gravity`]).
+const MIN_GRAVITY_INCREMENT: Real = 1e-3;
+
 /// Largest node displacement (units of L) of a KKT equilibrium from its predicted start
 /// before the step counts as failed (left the branch; see [`DerRay::evaluate_predicted`]).
 const PREDICTION_DEVIATION: Real = 5e-3;
+
+/// [`PREDICTION_DEVIATION`] under gravity ([`DerRay::critical_s_on_branch`]).
+const GRAVITY_PREDICTION_DEVIATION: Real = 0.02;
+/// Under gravity an end of the branch counts as the loss of stability only where the smallest
+/// eigenvalue |μ| of the last stable point is at most this fraction of its value at the ray's
+/// start ([`DerRay::critical_s_on_branch`]).
+const SINGULAR_MU_RATIO: Real = 1e-2;
+/// Most times [`DerRay::critical_s_on_branch`] forgets an unstable bracket end that was another
+/// branch's.
+const MAX_BRANCH_RESETS: usize = 8;
+/// The step after such a reset, relative to s.
+const RESET_STEP: Real = 1e-4;
+/// Largest ratio between consecutive s of the continuation under gravity.
+const GRAVITY_MAX_STEP_RATIO: Real = 1.1;
 
 /// Newton iterations allowed from the predicted start before falling back.
 const PREDICTED_MAX_ITERS: usize = 10;
@@ -408,6 +426,77 @@ pub struct DerRay {
     kkt: Option<KktWorkspace>,
     /// The Newton start of the last predicted evaluation (branch check).
     predicted: Vec<Real>,
+    /// The weight per unit length in the helix frame ([`DerRay::set_gravity`]; 0: none).
+    gravity: Vec3,
+}
+
+/// The outcome of a continuation step of [`DerRay::critical_s_on_branch`].
+enum Step {
+    /// A stable equilibrium on the branch.
+    Stable,
+    /// An equilibrium with a negative eigenvalue: past s*.
+    Unstable,
+    /// No convergence, or another branch: a shorter step, or the end of the branch.
+    Failed,
+}
+
+/// The continuation state of a [`DerRay`] at its last accepted point
+/// ([`DerRay::critical_s_on_branch`] returns to it after a rejected step). Buffers allocated
+/// once per search.
+#[derive(Debug)]
+struct BranchPoint {
+    correction: Vec<Real>,
+    correction_prev: Vec<Real>,
+    correction_s: Real,
+    correction_prev_s: Real,
+    has_correction_prev: bool,
+    axial: Vec<Real>,
+    state: Option<RodState>,
+    mu_last: Real,
+}
+
+impl BranchPoint {
+    fn new(ray: &DerRay) -> Self {
+        BranchPoint {
+            correction: ray.correction.clone(),
+            correction_prev: ray.correction_prev.clone(),
+            correction_s: ray.correction_s,
+            correction_prev_s: ray.correction_prev_s,
+            has_correction_prev: ray.has_correction_prev,
+            axial: ray.axial.clone(),
+            state: ray.state.clone(),
+            mu_last: ray.mu_last,
+        }
+    }
+
+    fn store(&mut self, ray: &DerRay) {
+        self.correction.copy_from_slice(&ray.correction);
+        self.correction_prev.copy_from_slice(&ray.correction_prev);
+        self.correction_s = ray.correction_s;
+        self.correction_prev_s = ray.correction_prev_s;
+        self.has_correction_prev = ray.has_correction_prev;
+        self.axial.copy_from_slice(&ray.axial);
+        match (&mut self.state, &ray.state) {
+            (Some(a), Some(b)) => a.copy_from(b),
+            (a, b) => a.clone_from(b),
+        }
+        self.mu_last = ray.mu_last;
+    }
+
+    fn restore(&self, ray: &mut DerRay) {
+        ray.correction.copy_from_slice(&self.correction);
+        ray.correction_prev.copy_from_slice(&self.correction_prev);
+        ray.correction_s = self.correction_s;
+        ray.correction_prev_s = self.correction_prev_s;
+        ray.has_correction_prev = self.has_correction_prev;
+        ray.has_correction = true;
+        ray.axial.copy_from_slice(&self.axial);
+        match (&mut ray.state, &self.state) {
+            (Some(a), Some(b)) => a.copy_from(b),
+            (a, b) => a.clone_from(b),
+        }
+        ray.mu_last = self.mu_last;
+    }
 }
 
 /// The outcome of one evaluation along a ray.
@@ -465,7 +554,27 @@ impl DerRay {
             shortcuts: false,
             kkt: None,
             predicted: vec![0.0; 4 * n + 3],
+            gravity: Vec3::zeros(),
         })
+    }
+
+    /// Load the rod with its weight: `w` is the weight per unit length in the helix frame
+    /// (nondimensional, `ρA·g·L³/k_b` times the direction of gravity; [`gravity_in_helix_frame`]),
+    /// lumped at the nodes ([`Workspace::set_weight`]). Every equilibrium of the ray is then the
+    /// loaded rod's (module docs, "Gravity"). Forgets the continuation.
+    pub fn set_gravity(&mut self, w: Vec3) -> Result<()> {
+        for (f, v) in [("gravity_x", w.x), ("gravity_y", w.y), ("gravity_z", w.z)] {
+            require_finite(f, v)?;
+        }
+        self.gravity = w;
+        self.ws.set_weight(&self.rod, &w);
+        self.restart();
+        Ok(())
+    }
+
+    /// Whether the rod carries its weight ([`DerRay::set_gravity`]).
+    pub fn has_gravity(&self) -> bool {
+        self.gravity != Vec3::zeros()
     }
 
     /// Allow the search's shortcuts (module docs, "Continuation"): a cold start at half the
@@ -574,17 +683,20 @@ impl DerRay {
         let init = self.initial_state(s)?;
         let free = self.rod.free_range_clamped();
         // The discrete correction scales like s² (chord shortfall ∝ (λē)², axial strain ∝
-        // force ∝ s²).
-        let scale = (s / self.correction_s).powi(2);
+        // force ∝ s²); under gravity it holds the sag, already O(w) at s = 0: the secant then
+        // extrapolates the correction itself.
+        let power = if self.has_gravity() { 0 } else { 2 };
+        let scale = (s / self.correction_s).powi(power);
         let mut st = init.clone();
         let (s1, s0) = (self.correction_s, self.correction_prev_s);
         if self.has_correction_prev && (s - s1).abs() <= 3.0 * (s1 - s0).abs() && s1 != s0 {
-            // Secant on u = correction/s² through the last two converged points.
+            // Secant on u = correction/s^power through the last two converged points.
             let w = (s - s1) / (s1 - s0);
-            let (a1, a0) = (1.0 / (s1 * s1), 1.0 / (s0 * s0));
+            let (a1, a0) = (s1.powi(-power), s0.powi(-power));
+            let sp = s.powi(power);
             for k in free.clone() {
                 let (u1, u0) = (a1 * self.correction[k], a0 * self.correction_prev[k]);
-                st.q[k] += s * s * (u1 + w * (u1 - u0));
+                st.q[k] += sp * (u1 + w * (u1 - u0));
             }
         } else {
             for k in free.clone() {
@@ -599,18 +711,18 @@ impl DerRay {
         if !st.update_reference() {
             return Err(not_converged());
         }
+        self.predicted.copy_from_slice(&st.q);
         let r = if self.kkt.is_some() {
             let quick = NewtonParams {
                 max_iters,
                 ..self.newton
             };
-            self.predicted.copy_from_slice(&st.q);
             let r = self.solve_kkt(&mut st, &quick, scale);
             // Branch check: Newton on the inextensible rod converges from far; past a
             // bifurcation it can slide from the prediction onto a buckled, stable equilibrium
             // ((0.16825, −0.5312, −0.8304) at n = 50: 2·10⁻² L from the prediction, where the
             // steps along the branch stay below 6.4·10⁻⁴ L). Such a point is a failed step.
-            if r.is_ok() && self.prediction_deviation(&st) > PREDICTION_DEVIATION {
+            if r.is_ok() && self.prediction_deviation(&st) > self.branch_deviation() {
                 Err(not_converged())
             } else {
                 r
@@ -644,8 +756,78 @@ impl DerRay {
         }
     }
 
-    /// Newton from the sampled helix with a continuation in the stretching stiffness.
+    /// Newton from the sampled helix with a continuation in the stretching stiffness; under
+    /// gravity, from the gravity-free equilibrium with a continuation in the weight
+    /// ([`DerRay::ramp_gravity`]).
     fn evaluate_cold(&mut self, s: Real) -> Result<RayPoint> {
+        if !self.has_gravity() {
+            return self.evaluate_cold_unloaded(s);
+        }
+        self.ws.external.clear();
+        let unloaded = self.evaluate_cold_unloaded(s);
+        let w = self.gravity;
+        self.ws.set_weight(&self.rod, &w);
+        unloaded?;
+        self.ramp_gravity(s)
+    }
+
+    /// Continue the equilibrium of [`DerRay::state`] (gravity-free, at `s`) in the weight from 0
+    /// to `self.gravity`: increments of at most the full weight, halved when Newton fails (below
+    /// [`MIN_GRAVITY_INCREMENT`] of it: an error), doubled after a success.
+    fn ramp_gravity(&mut self, s: Real) -> Result<RayPoint> {
+        let init = self.initial_state(s)?;
+        let Some(mut st) = self.state.take() else {
+            unreachable!("ramp_gravity without a converged gravity-free state")
+        };
+        let w = self.gravity;
+        let newton = self.newton;
+        let (mut frac, mut inc, mut iterations): (Real, Real, usize) = (0.0, 1.0, 0);
+        let mut trial = st.clone();
+        let mut axial = self.axial.clone();
+        let mut last = None;
+        while frac < 1.0 {
+            let t = (frac + inc).min(1.0);
+            self.ws.set_weight(&self.rod, &(w * t));
+            trial.copy_from(&st);
+            let r = if self.kkt.is_some() {
+                self.solve_kkt(&mut trial, &newton, 1.0)
+            } else {
+                self.rod.material.stretch = self.newton_stretch();
+                self.set_axial_forces(1.0)?;
+                self.solve_inextensible(&mut trial, &newton, true)
+            };
+            match r {
+                Ok(eq) => {
+                    iterations += eq.iterations;
+                    st.copy_from(&trial);
+                    axial.copy_from_slice(&self.axial);
+                    frac = t;
+                    inc = (2.0 * inc).min(1.0);
+                    last = Some(eq);
+                }
+                Err(Error::NotConverged { .. }) if inc > MIN_GRAVITY_INCREMENT => {
+                    iterations += newton.max_iters;
+                    self.axial.copy_from_slice(&axial);
+                    inc *= 0.5;
+                }
+                Err(e) => {
+                    self.ws.set_weight(&self.rod, &w);
+                    self.evaluations += 1;
+                    self.newton_iterations += iterations;
+                    return Err(e);
+                }
+            }
+        }
+        let Some(eq) = last else {
+            unreachable!("the weight ramp ends with a converged solve")
+        };
+        // The gravity-free evaluation was counted by `finish`; this one is the ray's first point.
+        self.has_correction = false;
+        Ok(self.finish(s, &init, st, eq.negative, iterations, true))
+    }
+
+    /// [`DerRay::evaluate_cold`] of the rod without its weight.
+    fn evaluate_cold_unloaded(&mut self, s: Real) -> Result<RayPoint> {
         let init = self.initial_state(s)?;
         if self.kkt.is_some() {
             // The multipliers start at the continuum helix's axial force (ω − τ)·τ, uniform
@@ -868,6 +1050,18 @@ impl DerRay {
         self.correction_prev_s = 1.0;
         self.rod.reset_stretch_rest_lengths();
         self.axial.iter_mut().for_each(|f| *f = 0.0);
+    }
+
+    /// The largest displacement from the prediction a continuation step may make before it
+    /// counts as having left the branch: [`PREDICTION_DEVIATION`], or
+    /// [`GRAVITY_PREDICTION_DEVIATION`] under gravity (the sag makes the first-order predictor
+    /// coarser; another branch is still O(0.1 L) away).
+    fn branch_deviation(&self) -> Real {
+        if self.has_gravity() {
+            GRAVITY_PREDICTION_DEVIATION
+        } else {
+            PREDICTION_DEVIATION
+        }
     }
 
     /// Largest node displacement of `st` from the last Newton start ([`DerRay::predicted`]).
@@ -1114,6 +1308,125 @@ impl DerRay {
         })
     }
 
+    /// s* of the rod under gravity ([`DerRay::set_gravity`]; module docs, "Gravity"): the end
+    /// of the stable branch reached from the nearly straight rod. From a cold start at
+    /// `min(COLD_START_S, guess)` the branch is followed forward only: a step from the last
+    /// stable point `a` to `t` is accepted when Newton from the prediction converges to a stable
+    /// equilibrium within `GRAVITY_PREDICTION_DEVIATION` of it (then the step grows by 1.5, at
+    /// most to ×1.1 in s, and to `guess` at most while below it). A step to an equilibrium with
+    /// a negative eigenvalue makes `t` the upper end `hi` of the bracket, and later steps bisect
+    /// `[a, hi]`; a step that fails (no convergence, or another branch) is halved. The search ends
+    /// when `min(hi, a + 2·step) − a ≤ tol_rel·a`, with s* the middle of that interval: the
+    /// crossing of an eigenvalue through 0 (a negative eigenvalue met) or the fold where the
+    /// branch ends (Newton finds no nearby equilibrium past it). The criterion is the smallest
+    /// eigenvalue μ of the constrained Hessian (of the KKT matrix, which crosses 0 with it) at
+    /// the last stable point `a`: the end is the loss of stability when |μ(a)| ≤
+    /// `SINGULAR_MU_RATIO` (10⁻²) of its value at the ray's start. An unstable bracket end met
+    /// where |μ(a)| is still larger was an equilibrium of another branch (a step across the
+    /// sharp turn of an imperfect supercritical bifurcation lands on its unstable branch): it is
+    /// forgotten and the continuation goes on (at most `MAX_BRANCH_RESETS` times). A failed end
+    /// with |μ(a)| above `FOLD_MU_RATIO` of its start value is a solver failure (an error),
+    /// never an s*.
+    pub fn critical_s_on_branch(&mut self, guess: Real) -> Result<CriticalS> {
+        let p = self.params;
+        require_positive("guess", guess)?;
+        self.restart();
+        let s0 = COLD_START_S.min(guess).min(p.s_max);
+        let first = self.evaluate_cold(s0)?;
+        if first.negative > 0 {
+            return Err(Error::NotConverged {
+                what: format!(
+                    "DER continuation under gravity: the first equilibrium (s = {s0}) is \
+                     already unstable"
+                ),
+                iterations: self.newton_iterations,
+                residual: Real::NAN,
+            });
+        }
+        let mut saved = BranchPoint::new(self);
+        let mut a = s0;
+        let mut hi = Real::INFINITY;
+        let mut step = a * (GRAVITY_MAX_STEP_RATIO - 1.0);
+        let mut met_unstable = false;
+        let mut resets = 0;
+        loop {
+            if a >= p.s_max {
+                return Ok(CriticalS {
+                    s_star: Real::INFINITY,
+                    est_error: 0.0,
+                });
+            }
+            let upper = hi.min(a + 2.0 * step);
+            if upper - a <= p.tol_rel * a {
+                let singular = self.mu_last <= SINGULAR_MU_RATIO * self.mu_first;
+                if met_unstable && !singular && resets < MAX_BRANCH_RESETS {
+                    // The unstable end was an equilibrium of another branch (the followed one
+                    // is still far from singular there): forget it and continue.
+                    resets += 1;
+                    met_unstable = false;
+                    hi = Real::INFINITY;
+                    step = RESET_STEP * a;
+                    continue;
+                }
+                if !singular && self.mu_last > FOLD_MU_RATIO * self.mu_first {
+                    return Err(Error::NotConverged {
+                        what: format!(
+                            "DER continuation under gravity stalled at s = {a} with the \
+                             constrained Hessian far from singular (|mu| = {:.3e}, {:.3e} at \
+                             the ray's start)",
+                            self.mu_last, self.mu_first
+                        ),
+                        iterations: self.newton_iterations,
+                        residual: Real::NAN,
+                    });
+                }
+                return Ok(CriticalS {
+                    s_star: 0.5 * (a + upper),
+                    est_error: 0.5 * (upper - a),
+                });
+            }
+            // Forward by `step`, to the guess at most while below it, and to the middle of
+            // [a, hi] once an unstable point has been met.
+            let mut t = (a + step).min(p.s_max);
+            if a < guess && t > guess {
+                t = guess;
+            }
+            if hi.is_finite() {
+                t = t.min(0.5 * (a + hi));
+            }
+            let outcome = match self.evaluate_predicted(t, PREDICTED_MAX_ITERS, true) {
+                Ok(pt) if pt.negative == 0 => {
+                    let state = self.state.as_ref().expect("a converged point has a state");
+                    if self.prediction_deviation(state) <= self.branch_deviation() {
+                        Step::Stable
+                    } else {
+                        Step::Failed
+                    }
+                }
+                Ok(_) => Step::Unstable,
+                Err(Error::NotConverged { .. }) => Step::Failed,
+                Err(e) => return Err(e),
+            };
+            match outcome {
+                Step::Stable => {
+                    saved.store(self);
+                    step = ((t - a) * 1.5).min(t * (GRAVITY_MAX_STEP_RATIO - 1.0));
+                    a = t;
+                }
+                Step::Unstable => {
+                    saved.restore(self);
+                    met_unstable = true;
+                    hi = t;
+                    step = t - a;
+                }
+                Step::Failed => {
+                    saved.restore(self);
+                    step = 0.5 * (t - a);
+                }
+            }
+        }
+    }
+
     /// Whether the last [`DerRay::critical_s`] ended at a fold: no helical equilibrium was found
     /// just past s* (Newton failed there), rather than an equilibrium with a negative eigenvalue.
     pub fn branch_ended(&self) -> bool {
@@ -1133,6 +1446,58 @@ pub fn critical_s(dir: &Direction, params: &DerBoundaryParams) -> Result<Critica
     critical_s_with_work(dir, params).0
 }
 
+/// The DER-statics critical distance s* along `dir` of the rod loaded by its weight `w` per
+/// unit length in the helix frame ([`gravity_in_helix_frame`]; module docs, "Gravity").
+/// `w = 0` is [`critical_s`]. With gravity the result is not checked against the continuum
+/// (which has no weight); its `est_error` is the bracket plus the discretization bound at the
+/// s* found.
+///
+/// Errors: as [`critical_s`] (but the continuum check), a non-finite `w`, and a weight ramp
+/// that does not converge at the ray's first point.
+pub fn critical_s_gravity(
+    dir: &Direction,
+    params: &DerBoundaryParams,
+    w: Vec3,
+) -> Result<CriticalS> {
+    let mut ray = DerRay::new(dir, params)?;
+    critical_s_on(&mut ray, params, w)
+}
+
+/// The weight per unit length of `rod`, nondimensional (`ρA·g·L³/k_b` times the direction of
+/// gravity), in the helix frame of a ray at azimuth `azimuth` (rad) on a clamp of rotation
+/// `clamp` (`[d1 d2 d3]` as columns in the base frame: d3 the rod tangent at the clamp) under
+/// gravity `g_base` (m/s², base frame): `Rz(α)ᵀ·Rᵀ·g·ρAL³/k_b`
+/// ([`Placement::to_helix_frame`](crate::rod::dynamics::centerline::Placement::to_helix_frame),
+/// the convention of the dynamics).
+///
+/// ```
+/// use helixreach::boundary::der::gravity_in_helix_frame;
+/// use helixreach::math::{Mat3, Vec3};
+/// use helixreach::rod::dynamics::PhysicalRod;
+/// let rod = PhysicalRod::nitinol();
+/// // Rod up (d3 = base z): gravity along −z of the helix frame, for every azimuth.
+/// let w = gravity_in_helix_frame(&rod, &Mat3::identity(), 1.0, &Vec3::new(0.0, 0.0, -9.81))
+///     .unwrap();
+/// let size = rod.linear_density() * 9.81 * rod.length.powi(3) / rod.bending_stiffness();
+/// assert!((w - Vec3::new(0.0, 0.0, -size)).norm() < 1e-12 * size);
+/// ```
+pub fn gravity_in_helix_frame(
+    rod: &crate::rod::dynamics::PhysicalRod,
+    clamp: &crate::math::Mat3,
+    azimuth: Real,
+    g_base: &Vec3,
+) -> Result<Vec3> {
+    rod.validate()?;
+    let placement = crate::rod::dynamics::centerline::Placement::new(
+        Vec3::zeros(),
+        *clamp,
+        azimuth,
+        rod.length,
+    )?;
+    let scale = rod.linear_density() * rod.length.powi(3) / rod.bending_stiffness();
+    Ok(placement.to_helix_frame(g_base) * scale)
+}
+
 /// [`critical_s`] with the work it spent, `(evaluations, Newton iterations)` of the ray
 /// ([`DerRay::work`]), also when it fails (speed studies: `examples/der_convergence.rs`).
 pub fn critical_s_with_work(
@@ -1143,12 +1508,15 @@ pub fn critical_s_with_work(
         Ok(r) => r,
         Err(e) => return (Err(e), (0, 0)),
     };
-    let r = critical_s_on(&mut ray, params);
+    let r = critical_s_on(&mut ray, params, Vec3::zeros());
     (r, ray.work())
 }
 
-fn critical_s_on(ray: &mut DerRay, params: &DerBoundaryParams) -> Result<CriticalS> {
+fn critical_s_on(ray: &mut DerRay, params: &DerBoundaryParams, w: Vec3) -> Result<CriticalS> {
     let c = super::continuum::critical_s(&ray.dir, CONTINUUM_CHECK_TOL_REL)?;
+    if w != Vec3::zeros() {
+        return critical_s_loaded(ray, params, w, &c);
+    }
     // The κ → 0 band (module docs): the inextensible rod by KKT Newton, no shortcut.
     let band = c.s_star.is_finite() && !shortcuts_are_safe(&ray.dir, c.s_star)?;
     let kkt = solves_inextensible(&ray.dir, params.n_edges);
@@ -1177,6 +1545,38 @@ fn critical_s_on(ray: &mut DerRay, params: &DerBoundaryParams) -> Result<Critica
         r.est_error += DISCRETIZATION_COEFF * per_edge * per_edge * s_ref;
     }
     check_against_continuum(&ray.dir, &r, &c, params)?;
+    Ok(r)
+}
+
+/// [`critical_s_gravity`] with a nonzero weight: the gravity-free guards, the seeded search
+/// without shortcuts, no continuum check (module docs, "Gravity").
+fn critical_s_loaded(
+    ray: &mut DerRay,
+    params: &DerBoundaryParams,
+    w: Vec3,
+    c: &CriticalS,
+) -> Result<CriticalS> {
+    let kkt = solves_inextensible(&ray.dir, params.n_edges);
+    if c.s_star.is_finite() {
+        if !kkt {
+            check_extensibility(&ray.dir, c.s_star)?;
+        }
+        check_resolution(&ray.dir, c.s_star, params.n_edges, ray.c)?;
+    }
+    ray.set_inextensible(kkt);
+    ray.set_gravity(w)?;
+    ray.allow_shortcuts(false);
+    let guess = if params.continuum_seed && c.s_star.is_finite() {
+        SEED_BELOW * c.s_star
+    } else {
+        params.s_max
+    };
+    let mut r = ray.critical_s_on_branch(guess)?;
+    if r.s_star.is_finite() {
+        check_resolution(&ray.dir, r.s_star, params.n_edges, ray.c)?;
+        let per_edge = rotation_per_edge(&ray.dir, r.s_star, params.n_edges, ray.c);
+        r.est_error += DISCRETIZATION_COEFF * per_edge * per_edge * r.s_star;
+    }
     Ok(r)
 }
 
@@ -1353,6 +1753,17 @@ pub fn critical_s_to_rel_tol(
     rel_tol: Real,
     max_edges: usize,
 ) -> Result<AdaptiveS> {
+    critical_s_to_rel_tol_gravity(dir, params, Vec3::zeros(), rel_tol, max_edges)
+}
+
+/// [`critical_s_to_rel_tol`] of the rod loaded by its weight `w` ([`critical_s_gravity`]).
+pub fn critical_s_to_rel_tol_gravity(
+    dir: &Direction,
+    params: &DerBoundaryParams,
+    w: Vec3,
+    rel_tol: Real,
+    max_edges: usize,
+) -> Result<AdaptiveS> {
     params.validate()?;
     require_positive("rel_tol", rel_tol)?;
     if rel_tol >= 0.5 {
@@ -1378,7 +1789,7 @@ pub fn critical_s_to_rel_tol(
             ..*params
         };
         let finer = 2 * n;
-        match critical_s(dir, &p) {
+        match critical_s_gravity(dir, &p, w) {
             Ok(r) => {
                 let bracket = 0.5 * p.tol_rel * r.s_star;
                 match prev {

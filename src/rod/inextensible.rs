@@ -6,7 +6,8 @@
 //! subject to the edge-length constraints `c_j(q) = ℓ_j − ē_j = 0`, `ℓ_j = |x_{j+1} − x_j|`, for
 //! every edge with a free end node (the *constrained edges*). With multipliers `λ_j` (the
 //! edges' axial tensions) the Lagrangian is `L = E_bt + Σ_j λ_j c_j`; an equilibrium is a
-//! stationary point `∇_q L = 0`, `c = 0`.
+//! stationary point `∇_q L = 0`, `c = 0`. A constant external load `F`
+//! ([`Workspace::external`], e.g. gravity) adds `−Fᵀq` to `E_bt` (gradient `−F`, no Hessian).
 //!
 //! # Newton (SQP) step
 //! With `J = ∂c/∂q` (row `j`: `−aⱼᵀ` at `x_j`, `aⱼᵀ` at `x_{j+1}`, `aⱼ = e_j/ℓ_j`) and
@@ -76,11 +77,11 @@
 //! ```
 
 use super::banded::{BandedLdlt, BandedSym, KKT_HALF_BANDWIDTH};
-use super::energy;
 use super::params::Rod;
 use super::state::RodState;
 use super::statics::{
-    assemble_trial, backtrack_accepts, inf_norm, singular, Equilibrium, NewtonParams, FLOOR_FACTOR,
+    assemble, assemble_trial, backtrack_accepts, inf_norm, singular, Equilibrium, NewtonParams,
+    FLOOR_FACTOR,
 };
 use super::workspace::Workspace;
 use crate::error::{Error, Result};
@@ -374,7 +375,7 @@ fn solve_impl(
     let mut e = Real::NAN;
     for it in 0..params.max_iters {
         if !assembled {
-            e = energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+            e = assemble(rod, state, ws);
             kkt.add_constraint_forces(state, &kkt.lambda, &mut ws.grad);
         }
         assembled = false;
@@ -461,7 +462,7 @@ fn solve_impl(
             if at_floor {
                 // Accept the iterate; its KKT matrix and LDLᵀ are still the factored ones, and
                 // ws.hess is re-assembled there (the trials overwrote it).
-                energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+                assemble(rod, state, ws);
                 return Ok(done(neg - m_c));
             }
             return Err(Error::NotConverged {

@@ -8,6 +8,10 @@
 //! `‖g_f‖∞` does not decrease. Newton seeks stationary points, not minima, so it converges to
 //! unstable equilibria too (which is what a stability test along a branch needs).
 //!
+//! External load: with a constant force `F` in [`Workspace::external`] (gravity,
+//! [`Workspace::set_weight`]) the energy is `E(q) − Fᵀq`: the gradient gains `−F`, the Hessian
+//! nothing, so the stability test below is the elastic Hessian's at the loaded equilibrium.
+//!
 //! Convergence: the Newton step satisfies `‖Δ‖∞ ≤ step_tol`, or the residual is at the
 //! round-off floor `‖g_f‖∞ ≤ max(rel_residual_tol·(k_b + ‖g‖∞), 16·k_s·ε)` (the second term is
 //! the round-off of a stiff stretching force; near a critical point the Hessian
@@ -91,11 +95,31 @@ impl Equilibrium {
 /// a shorter one with the gradient only (energy NaN). Shared by both Newton solvers.
 pub(super) fn assemble_trial(rod: &Rod, trial: &RodState, full: bool, ws: &mut Workspace) -> Real {
     if full {
-        energy::energy_gradient_hessian(rod, trial, &mut ws.grad, &mut ws.hess)
+        assemble(rod, trial, ws)
     } else {
         energy::gradient(rod, trial, &mut ws.grad);
+        add_external(trial, &ws.external, &mut ws.grad);
         Real::NAN
     }
+}
+
+/// Energy, gradient and Hessian at `state` into `ws`, the external load
+/// ([`Workspace::external`]) included: its potential `−Fᵀq` in the energy, `−F` in the
+/// gradient (the Hessian is the elastic one). Shared by both Newton solvers.
+pub(super) fn assemble(rod: &Rod, state: &RodState, ws: &mut Workspace) -> Real {
+    let e = energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+    e + add_external(state, &ws.external, &mut ws.grad)
+}
+
+/// Subtract the external force `f` (empty: none) from the gradient `g`; returns its potential
+/// `−fᵀq`.
+fn add_external(state: &RodState, f: &[Real], g: &mut [Real]) -> Real {
+    let mut v = 0.0;
+    for (k, fk) in f.iter().enumerate() {
+        g[k] -= fk;
+        v -= fk * state.q[k];
+    }
+    v
 }
 
 /// The backtracking rule of both Newton solvers: a trial with residual `r` at step fraction
@@ -141,7 +165,7 @@ pub fn solve(
         let mut e = Real::NAN;
         for it in 0..params.max_iters {
             if !assembled {
-                e = energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+                e = assemble(rod, state, ws);
             }
             assembled = false;
             let res = inf_norm(&ws.grad[free.clone()]);
@@ -209,7 +233,7 @@ pub fn solve(
                     // Near a singular point the step is round-off along the critical mode
                     // and cannot reduce a residual already at the floor: accept the iterate
                     // (its gradient and Hessian re-assembled: the trials overwrote them).
-                    energy::energy_gradient_hessian(rod, state, &mut ws.grad, &mut ws.hess);
+                    assemble(rod, state, ws);
                     return Ok(done(ws.ldlt.inertia().1));
                 }
                 return Err(Error::NotConverged {
