@@ -133,6 +133,43 @@
 //! at n = 400, 800, 1600 — second order only from φ ≈ 0.3). Such results fail the check
 //! against the continuum below and are errors.
 //!
+//! # Gravity
+//! [`critical_s_gravity`] loads the rod with its weight: per node `l_i·w`, `l_i` the node's share
+//! of the rest length (half an edge at the ends, as the dynamics' lumped masses) and `w` the
+//! nondimensional weight per unit length `ρA·g·L³/k_b = ½(L/L_gb)³` times the direction of
+//! gravity **in the helix frame** ([`gravity_in_helix_frame`]): for a clamp of rotation
+//! `R = [d1 d2 d3]` in the rig's base frame (d3 the rod tangent at the clamp, d1 the direction
+//! the helix first curls toward at azimuth 0) and a ray at azimuth α (the robot end's rotation
+//! of the whole helix about d3), gravity `g` of the base frame is `Rz(α)ᵀ·Rᵀ·g` there. The
+//! potential `−Σ l_i w·x_i` has a constant gradient and no Hessian ([`Workspace::external`]),
+//! so the stability test is unchanged (the KKT inertia at the loaded equilibrium). Gravity
+//! breaks the isotropy: s* depends on α unless gravity is along d3 (rod vertical).
+//!
+//! The gravity-free search's shortcuts assume the unloaded helix (the correction ∝ s², the
+//! cold start far along the ray checked against `BRANCH_DEVIATION`, the continuum s* as the
+//! answer's check). Under gravity none is used: the first point (s = 1) is the gravity-free
+//! equilibrium continued in the weight from 0 to w (increments halved on failure), and the
+//! branch is then followed forward in s from stable point to stable point
+//! ([`DerRay::critical_s_on_branch`], predictor: the secant of the correction itself). s* is
+//! where that branch loses stability: an equilibrium with a negative eigenvalue met by a step,
+//! or the fold where Newton finds no equilibrium past it, bracketed to `tol_rel`; it counts
+//! only where the smallest eigenvalue μ of the last stable point is at most 1 % of its value at
+//! the ray's start (a vanishing eigenvalue of the constrained Hessian).
+//!
+//! What gravity does to the bifurcation: the weight is an imperfection. On a snapping
+//! (subcritical) direction the helical branch ends at a fold before the gravity-free s*, and
+//! the shift follows Koiter's two-thirds law, `|s*(g) − s*(0)| ∝ g^{2/3}` (measured local order
+//! 0.63–0.69 on (1, 1, −1)/√3 and (0.594, 0.698, 0.4) for w from 10⁻⁴ to 2.6·10⁻², `tests/rod.rs`).
+//! On a supercritical direction the loaded branch bends smoothly past the gravity-free s* onto
+//! the buckled branch, and the search finds where *that* branch loses stability: on
+//! (1, 1, 1)/√3 its fold 0.4 % above the gravity-free s* (n = 40), and at larger weights
+//! (`L_gb/L` ≲ 0.6) a loss of stability near twice s*. Near the sharp turn of a nearly perfect
+//! supercritical bifurcation a step can land on the unstable branch with |μ| still small, so
+//! on such directions s*(g) for tiny g may be either the turn or the fold; it is continuous in
+//! g only on subcritical directions. A slow dynamic run snaps where the static s* with gravity
+//! says (`tests/dynamics.rs`: within 0.5 % at `L_gb/L` = 1, read at the helix error's
+//! threshold crossing).
+//!
 //! # What `est_error` covers
 //! The `est_error` of a [`critical_s`] result is the half-width of the final bracket (root
 //! finding to `tol_rel`) **plus** an empirical discretization bound
