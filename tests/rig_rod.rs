@@ -188,6 +188,17 @@ fn a_rod_given_by_the_rig_gives_the_same_series_and_boundary_as_the_same_rod_by_
     assert_eq!(by_rig, b(&["--nu", "0.25"], "b_flags.csv"));
     // The rig's ν reached the solver (the default ν = 0.33 gives another file).
     assert_ne!(by_rig, b(&[], "b_default.csv"));
+    // With gravity: the rig's rod and clamp (rod up) are the flags' rod held up; the weight
+    // moves s* (the file differs from the gravity-free one).
+    let mut g = flags.to_vec();
+    g.push("--gravity");
+    let rig_g = b(&["--rig", rig, "--gravity"], "b_rig_g.csv");
+    assert_eq!(rig_g, b(&g, "b_flags_g.csv"));
+    assert_ne!(rig_g, by_rig);
+    // Gravity needs the DER rod.
+    let out = cli(&["boundary", "--fibonacci", "3", "--gravity", "--out", "-"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--method der"));
 }
 
 /// Parse the centerline CSV into rows of named fields.

@@ -14,6 +14,13 @@
 //! that does not converge) is a row with `nan` numbers and the reason in the last column,
 //! `refused`; `reach --boundary` and `layout --boundary` refuse such a row naming its line.
 //!
+//! `--gravity` (method der) loads the rod with its weight, g = 9.81 m/s² along −z of the rig's
+//! base frame: the rod is the rig's (`--rig`), whose clamp rotation `[d1 d2 d3]` orients it
+//! (without `--rig` the rod points up, the seed's clamp), and every ray is taken at the azimuth
+//! `--azimuth` α (rad) about d3; s* is the DER statics s* of the loaded rod
+//! (`helixreach::boundary::der`, "Gravity"), which depends on the rod's `L_gb/L` and on α. The
+//! sidecar records gravity, azimuth and the weight per unit length in the helix frame.
+//!
 //! `--speed-report FILE` instead measures time per direction (one thread's CPU time, best of 3) and the error against a
 //! tight-tolerance continuum reference, for several resolutions of the chosen method, and writes
 //! `method,resolution,time_per_direction_s,max_rel_err,median_rel_err` (rows of other methods
@@ -24,8 +31,8 @@ use anyhow::{bail, Context};
 use helixreach::boundary::continuum::{self, ContinuumParams, CriticalS};
 use helixreach::boundary::der;
 use helixreach::directions::Direction;
-use helixreach::math::Real;
-use helixreach::rod::dynamics::presets::Preset;
+use helixreach::math::{Mat3, Real, Vec3};
+use helixreach::rod::dynamics::presets::{Preset, STANDARD_GRAVITY};
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -75,6 +82,19 @@ pub struct Args {
     /// on that in the continuum limit): the rig's other fields do not change s*.
     #[command(flatten)]
     pub rod: super::rod_args::RodArgs,
+    /// Method der: load the rod with its weight (g = 9.81 m/s² along −z of the rig's base frame,
+    /// oriented by the rig's clamp; without --rig the rod points up).
+    #[arg(long)]
+    pub gravity: bool,
+    /// With --gravity: the azimuth α (rad) of every ray about the clamp tangent (the helix first
+    /// curls toward cos α·d1 + sin α·d2 of the clamp frame).
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        allow_negative_numbers = true,
+        requires = "gravity"
+    )]
+    pub azimuth: Real,
     /// Relative tolerance on s*.
     #[arg(long, default_value_t = helixreach::math::tol::S_STAR_REL, allow_negative_numbers = true)]
     pub tol: Real,
@@ -123,6 +143,7 @@ fn solver(
     tol: Real,
     step: Real,
     n_edges: usize,
+    weight: Vec3,
 ) -> anyhow::Result<(Solver, String)> {
     match method {
         Method::Continuum => {
@@ -148,7 +169,7 @@ fn solver(
             p.validate()?;
             Ok((
                 Box::new(move |d| {
-                    der::critical_s(d, &p).map(|r| CriticalS {
+                    der::critical_s_gravity(d, &p, weight).map(|r| CriticalS {
                         s_star: r.s_star,
                         est_error: r.est_error,
                     })
@@ -176,11 +197,32 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let checkpoint = checkpoint_interval(a.checkpoint_secs)?;
     let dirs = a.dirs.load()?;
     if let Some(report) = &a.speed_report {
+        if a.gravity {
+            bail!("--speed-report measures the gravity-free boundary; drop --gravity");
+        }
         return speed_report(&a, &dirs, report);
     }
     let out = a.out.clone().context("--out is required")?;
-    let nu = a.rod.resolve(Preset::PaperSim)?.rod.nu;
-    let (solve, resolution) = solver(a.method, nu, a.tol, a.step, a.n_edges)?;
+    let resolved = a.rod.resolve(Preset::PaperSim)?;
+    let nu = resolved.rod.nu;
+    let weight = if a.gravity {
+        if a.method != Method::Der {
+            bail!("--gravity needs --method der (the continuum rod has no weight)");
+        }
+        let clamp = resolved
+            .rig
+            .as_ref()
+            .map_or_else(Mat3::identity, |r| r.clamp_rotation());
+        der::gravity_in_helix_frame(
+            &resolved.rod,
+            &clamp,
+            a.azimuth,
+            &Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
+        )?
+    } else {
+        Vec3::zeros()
+    };
+    let (solve, resolution) = solver(a.method, nu, a.tol, a.step, a.n_edges, weight)?;
     let method = method_name(a.method);
     let adaptive = match a.rel_tol {
         Some(e) if a.method == Method::Der => {
@@ -203,7 +245,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let max_n = a.max_n_edges;
     let solve = move |d: &Direction| -> helixreach::Result<(CriticalS, Option<String>)> {
         match adaptive {
-            Some((p, e)) => der::critical_s_to_rel_tol(d, &p, e, max_n).map(|r| {
+            Some((p, e)) => der::critical_s_to_rel_tol_gravity(d, &p, weight, e, max_n).map(|r| {
                 (
                     CriticalS {
                         s_star: r.s_star,
@@ -223,6 +265,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .setting("nu", nu);
     if a.method == Method::Continuum {
         opts = opts.setting("step", a.step);
+    }
+    if a.gravity {
+        opts = opts
+            .setting("gravity", STANDARD_GRAVITY)
+            .setting("azimuth", a.azimuth)
+            .setting("rod", &resolved.source)
+            .setting(
+                "weight_helix_frame",
+                format!("{},{},{}", weight.x, weight.y, weight.z),
+            );
     }
     opts.resume = a.resume;
     opts.force = a.force;
@@ -288,7 +340,7 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
     let method = method_name(a.method);
     let mut lines = Vec::new();
     for (tol, n) in resolutions {
-        let (solve, label) = solver(a.method, nu, tol, a.step, n)?;
+        let (solve, label) = solver(a.method, nu, tol, a.step, n, Vec3::zeros())?;
         // CPU time of this thread (wall time where unavailable), best of REPEATS passes: the
         // machine may be shared, and CPU time is what a free core would take.
         let mut per = f64::INFINITY;
