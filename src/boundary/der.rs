@@ -1610,7 +1610,16 @@ fn critical_s_loaded(
     };
     let mut r = ray.critical_s_on_branch(guess)?;
     if r.s_star.is_finite() {
-        check_resolution(&ray.dir, r.s_star, params.n_edges, ray.c)?;
+        check_resolution(&ray.dir, r.s_star, params.n_edges, ray.c).map_err(|e| {
+            Error::invalid(
+                "n_edges",
+                params.n_edges,
+                format!(
+                    "under gravity the branch loses stability at s = {}: {e}",
+                    r.s_star
+                ),
+            )
+        })?;
         let per_edge = rotation_per_edge(&ray.dir, r.s_star, params.n_edges, ray.c);
         r.est_error += DISCRETIZATION_COEFF * per_edge * per_edge * r.s_star;
     }

@@ -19,6 +19,13 @@
 //! 10.80, resolution 0.01): −0.65 % at `L_gb/L` = 3, −1.02 % at 2 (and more below, see
 //! `docs/RESULTS.md`); [`MEASURED_LGB_THRESHOLD`] = 2.1 is the 1 % crossing interpolated
 //! between them, rounded up.
+//!
+//! The static measurement (DER statics with the weight,
+//! [`critical_s_gravity`](crate::boundary::der::critical_s_gravity), n = 40, `docs/RESULTS.md`):
+//! on the seed's three directions, rod up and rod horizontal, gravity moves s* by 1 % at
+//! `L_gb/L` ≈ 1.1 at most (0.41–1.10 by direction and clamp), and by less below that weight
+//! only on the supercritical (1, 1, 1)/√3, whose s* with any weight is the buckled branch's fold,
+//! 0.4 % above the gravity-free s*.
 
 use crate::error::Result;
 use crate::math::Real;
