@@ -383,3 +383,60 @@ fn der_to_a_requested_accuracy_meets_it_against_the_continuum_or_names_the_n_nee
         "{e}"
     );
 }
+
+/// `bifurcation --rel-tol`: n chosen per direction as the boundary's, the s* of every row within
+/// the request of the continuum s* (an independent method), the row naming its n; a bound too
+/// small for the request is a `degenerate` row naming the n needed, never a capped answer.
+#[test]
+fn bifurcation_to_a_requested_accuracy_meets_it_against_the_continuum() {
+    use helixreach::boundary::continuum;
+    use helixreach::directions::Direction;
+    let dir = tempfile::tempdir().unwrap();
+    let dirs = dir.path().join("dirs.csv");
+    std::fs::write(
+        &dirs,
+        "dir_kappa,dir_tau,dir_omega\n0.594,0.698,0.4\n1,1,-1\n1,1,1\n",
+    )
+    .unwrap();
+    let run = |max_n: &str, name: &str| -> Vec<Vec<String>> {
+        let out = dir.path().join(name);
+        ok(&cli(&[
+            "bifurcation",
+            "--directions",
+            dirs.to_str().unwrap(),
+            "--n-edges",
+            "25",
+            "--rel-tol",
+            "1e-3",
+            "--max-n-edges",
+            max_n,
+            "--no-return",
+            "--out",
+            out.to_str().unwrap(),
+        ]));
+        std::fs::read_to_string(&out)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(str::to_string).collect())
+            .collect()
+    };
+    for r in run("800", "ok.csv") {
+        let d = Direction::new(
+            r[0].parse().unwrap(),
+            r[1].parse().unwrap(),
+            r[2].parse().unwrap(),
+        )
+        .unwrap();
+        let c = continuum::critical_s(&d, 1e-10).unwrap().s_star;
+        let s: f64 = r[3].parse().unwrap();
+        assert!((s - c).abs() / c <= 1e-3, "{r:?} vs continuum {c}");
+        assert!(r[8].starts_with("n=") && r[8].contains("rel_err="), "{r:?}");
+        assert_ne!(r[4], "degenerate", "{r:?}");
+    }
+    // n ≤ 25 cannot give a second resolution: every row is degenerate and names the bound.
+    for r in run("40", "capped.csv") {
+        assert_eq!(r[4], "degenerate", "{r:?}");
+        assert!(r.join(",").contains("max_n_edges"), "{r:?}");
+    }
+}

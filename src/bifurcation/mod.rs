@@ -265,8 +265,9 @@ pub fn classify(dir: &Direction, p: &BifurcationParams) -> Result<Bifurcation> {
     }
 }
 
-/// A `degenerate` result with its reason and nothing else known but (perhaps) s*.
-fn degenerate(reason: String, s_star: Real) -> Bifurcation {
+/// A `degenerate` result with its reason and nothing else known but (perhaps) s* (NaN when
+/// unknown): the row of a direction that could not be decided.
+pub fn degenerate(reason: String, s_star: Real) -> Bifurcation {
     Bifurcation {
         s_star,
         kind: BifurcationType::Degenerate,

@@ -23,9 +23,9 @@
 //! The static measurement (DER statics with the weight,
 //! [`critical_s_gravity`](crate::boundary::der::critical_s_gravity), n = 40, `docs/RESULTS.md`):
 //! on the seed's three directions, rod up and rod horizontal, gravity moves s* by 1 % at
-//! `L_gb/L` ≈ 1.1 at most (0.41–1.10 by direction and clamp), and by less below that weight
-//! only on the supercritical (1, 1, 1)/√3, whose s* with any weight is the buckled branch's fold,
-//! 0.4 % above the gravity-free s*.
+//! `L_gb/L` ≈ 1.1 at most (0.41–1.10 by direction and clamp); on the supercritical
+//! (1, 1, 1)/√3 any weight moves s* by ≈ +0.4 %, since its s* with gravity is the fold of the
+//! buckled branch.
 
 use crate::error::Result;
 use crate::math::Real;

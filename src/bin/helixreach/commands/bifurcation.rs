@@ -10,6 +10,13 @@
 //! abort of the sweep (`helixreach::bifurcation::classify`). Parallel over directions,
 //! checkpointed, resumable (same settings) and shardable through `helixreach::sweep::driver`;
 //! an existing `--out` is replaced only with `--force`.
+//!
+//! `--rel-tol E` chooses n per direction as `boundary --method der --rel-tol` does
+//! (`helixreach::boundary::der::critical_s_to_rel_tol`: n doubled from `--n-edges` until the
+//! Richardson estimate of the DER s*'s discretization error is ≤ E relative, an error past
+//! `--max-n-edges`) and classifies at that n; the row's `resolution` is `n=N rel_err=R` (R the
+//! Richardson estimate). A direction that needs more than `--max-n-edges` is a `degenerate` row
+//! whose reason names the n it would need.
 
 use super::args::{checkpoint_interval, DirectionArgs};
 use super::boundary::dir_key;
@@ -46,6 +53,13 @@ pub struct Args {
     /// Skip the static unloading (no s_return for subcritical rays; much faster).
     #[arg(long)]
     pub no_return: bool,
+    /// Choose n per direction, doubling from `--n-edges` until the Richardson estimate of the
+    /// DER s*'s discretization error is at most this (relative), then classify at that n.
+    #[arg(long, allow_negative_numbers = true)]
+    pub rel_tol: Option<Real>,
+    /// With --rel-tol: the largest n (an error row when reached, never a silent cap).
+    #[arg(long, default_value_t = helixreach::boundary::der::DEFAULT_MAX_ADAPTIVE_EDGES, requires = "rel_tol")]
+    pub max_n_edges: usize,
     /// Relative resolution of s_return.
     #[arg(long, default_value_t = helixreach::bifurcation::RETURN_TOL_REL)]
     pub return_tol: Real,
@@ -103,7 +117,40 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         contact_diameter,
     };
     p.validate().context("bifurcation parameters")?;
-    let resolution = format!("n={}", a.n_edges);
+    let resolution = match a.rel_tol {
+        Some(e) => {
+            helixreach::error::require_positive("rel_tol", e)?;
+            format!("rel_tol={e:e} n0={} n_max={}", a.n_edges, a.max_n_edges)
+        }
+        None => format!("n={}", a.n_edges),
+    };
+    let max_n = a.max_n_edges;
+    let one = |d: &Direction| -> helixreach::Result<Vec<String>> {
+        let Some(e) = a.rel_tol else {
+            return row(d, &classify(d, &p)?, &resolution);
+        };
+        match helixreach::boundary::der::critical_s_to_rel_tol(d, &p.der, e, max_n) {
+            Ok(ad) => {
+                let at = BifurcationParams {
+                    der: DerBoundaryParams {
+                        n_edges: ad.n_edges,
+                        ..p.der
+                    },
+                    ..p
+                };
+                let label = format!("n={} rel_err={:.2e}", ad.n_edges, ad.richardson_rel);
+                row(d, &classify(d, &at)?, &label)
+            }
+            Err(err) => row(
+                d,
+                &helixreach::bifurcation::degenerate(
+                    format!("no DER s* to rel_tol {e:e}: {err}"),
+                    Real::NAN,
+                ),
+                &resolution,
+            ),
+        }
+    };
     let mut opts = SweepOptions::new(&a.out, BifurcationRecord::HEADER, 3)
         .sweep("bifurcation")
         .setting("resolution", &resolution)
@@ -117,12 +164,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     opts.checkpoint_interval = checkpoint;
     opts.progress = !super::global().quiet;
     let t0 = Instant::now();
-    let summary = driver::run(
-        &dirs,
-        dir_key,
-        |d| row(d, &classify(d, &p)?, &resolution),
-        &opts,
-    )?;
+    let summary = driver::run(&dirs, dir_key, one, &opts)?;
     status!(
         "bifurcation: {} directions ({} computed, {} resumed) in {:.3} s -> {}",
         summary.total,
