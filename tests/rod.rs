@@ -1233,7 +1233,7 @@ fn der_gravity_azimuth_matters_only_off_the_vertical() {
     use helixreach::rod::dynamics::PhysicalRod;
     let p = gravity_params(24);
     let d = Direction::new(1.0, 1.0, -1.0).unwrap();
-    let mut rod = PhysicalRod::paper_sim();
+    let rod = PhysicalRod::paper_sim();
     let g = rod.gravity_for_ratio(1.0).unwrap();
     rod.validate().unwrap();
     let down = Vec3::new(0.0, 0.0, -g);
