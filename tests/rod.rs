@@ -1267,3 +1267,49 @@ fn der_gravity_azimuth_matters_only_off_the_vertical() {
         }
     }
 }
+
+/// The weight in the statics against the Euler–Bernoulli beam: a straight rod clamped at both
+/// ends under a small transverse weight w per unit length sags at mid-span by
+/// `w·L⁴/(384·k_b)` (nondimensionally w/384). With the weight lumped at the nodes
+/// (`Workspace::set_weight`), Newton on the free DOFs (n = 40, straddling clamps, a mild
+/// stretching stiffness whose membrane tension is ≈ 10⁻³ of the bending load) lands within 1 %
+/// of it, along the weight, and twice the weight sags twice as far.
+#[test]
+fn statics_weight_gives_the_clamped_beam_sag() {
+    use helixreach::rod::statics::{solve, NewtonParams};
+    use helixreach::rod::Workspace;
+    let n = 40;
+    let pl = ClampPlacement::Straddle;
+    let h = pl.edge_length(n, 1.0);
+    let rod = Rod::uniform(n, h, Material::nondimensional(0.3, 1e4).unwrap()).unwrap();
+    let nodes: Vec<Vec3> = (0..=n)
+        .map(|i| Vec3::new(0.0, 0.0, pl.node_arclength(n, i, 1.0)))
+        .collect();
+    let sag = |w: Vec3| {
+        let mut st = RodState::from_nodes(&nodes, &vec![0.0; n], &Vec3::x()).unwrap();
+        let mut ws = Workspace::new(&rod);
+        ws.set_weight(&rod, &w);
+        let eq = solve(
+            &rod,
+            &mut st,
+            rod.free_range_clamped(),
+            &mut ws,
+            &NewtonParams::default(),
+        )
+        .unwrap();
+        assert!(eq.is_stable());
+        st.node(n / 2)
+    };
+    let mids: Vec<Vec3> = [0.384, 0.768]
+        .iter()
+        .map(|&w| sag(Vec3::new(0.0, -w, 0.0)))
+        .collect();
+    eprintln!("mid-span {mids:?}");
+    assert!((pl.node_arclength(n, n / 2, 1.0) - 0.5).abs() < 1e-12);
+    for (m, w) in mids.iter().zip([0.384, 0.768]) {
+        let beam = -w / 384.0;
+        assert!((m.y / beam - 1.0).abs() < 0.01, "{m:?} vs beam {beam}");
+        assert!(m.x.abs() < 1e-9, "{m:?}");
+    }
+    assert!((mids[1].y / mids[0].y - 2.0).abs() < 0.01, "{mids:?}");
+}
