@@ -440,3 +440,179 @@ fn bifurcation_to_a_requested_accuracy_meets_it_against_the_continuum() {
         assert!(r.join(",").contains("max_n_edges"), "{r:?}");
     }
 }
+
+/// `reach`, `plan`, `layout` and `campaign` plan with the boundary of the rig's rod: the
+/// gravity-free one above L_gb/L = 0.6, stating gravity's estimated shift of s* (the seed rig:
+/// L_gb/L = 0.86, about 1.6 %; see the test of the estimate in `tests/rod.rs`) and warning
+/// when it exceeds the margin; refused below 0.6, naming `boundary --method der --gravity`
+/// and `--boundary` — and a boundary computed with gravity is then accepted, at its own
+/// azimuth only.
+#[test]
+fn planning_commands_use_the_boundary_of_the_rigs_rod() {
+    let dir = tempfile::tempdir().unwrap();
+    let rod = |e: &str| {
+        format!(
+            "length = 0.51\ndiameter = 1.5875e-3\nyoungs_modulus = {e}\npoisson = 0.33\n\
+             density = 6450.0"
+        )
+    };
+    // L_gb/L ∝ E^(1/3): 13.3 GPa gives 0.50, 36.5 GPa 0.70 (the seed's 67.5 GPa: 0.86).
+    let soft = write_rig(dir.path(), "soft.toml", &seed_rig_with_rod(&rod("13.3e9")));
+    let middle = write_rig(
+        dir.path(),
+        "middle.toml",
+        &seed_rig_with_rod(&rod("36.5e9")),
+    );
+    let (soft, middle) = (soft.to_str().unwrap(), middle.to_str().unwrap());
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let dirs = out("dirs.csv");
+    std::fs::write(
+        &dirs,
+        "dir_kappa,dir_tau,dir_omega\n1,1,-1\n0.594,0.698,0.4\n",
+    )
+    .unwrap();
+    let refused = |o: &Output, needles: &[&str]| {
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        for n in needles {
+            assert!(e.contains(n), "{n:?} missing from: {e}");
+        }
+    };
+    let gravity_way_out = ["L_gb/L", "0.50", "--gravity", "--boundary"];
+    let r1 = out("r1.csv");
+    refused(
+        &cli(&["reach", "--rig", soft, "--directions", &dirs, "--out", &r1]),
+        &gravity_way_out,
+    );
+    assert!(!Path::new(&r1).exists(), "a refused sweep writes nothing");
+    refused(
+        &cli(&[
+            "plan",
+            "--rig",
+            soft,
+            "--direction",
+            "1,1,-1",
+            "--out",
+            &out("p.csv"),
+        ]),
+        &gravity_way_out,
+    );
+    refused(
+        &cli(&[
+            "layout",
+            "--rig",
+            soft,
+            "--directions",
+            &dirs,
+            "--out",
+            &out("lay"),
+        ]),
+        &gravity_way_out,
+    );
+    refused(
+        &cli(&[
+            "campaign",
+            "--rig",
+            soft,
+            "--directions",
+            &dirs,
+            "--out",
+            &out("camp"),
+        ]),
+        &gravity_way_out,
+    );
+    // A given s* is the user's boundary.
+    ok(&cli(&[
+        "plan",
+        "--rig",
+        soft,
+        "--direction",
+        "1,1,-1",
+        "--s-star",
+        "5",
+        "--allow-partial",
+        "--out",
+        &out("p.csv"),
+    ]));
+    // The boundary with gravity, then the sweep on it (the rig plans at azimuth 0 only).
+    let b = out("b.csv");
+    ok(&cli(&[
+        "boundary",
+        "--method",
+        "der",
+        "--gravity",
+        "--rig",
+        soft,
+        "--directions",
+        &dirs,
+        "--n-edges",
+        "30",
+        "--out",
+        &b,
+    ]));
+    let o = cli(&[
+        "reach",
+        "--rig",
+        soft,
+        "--directions",
+        &dirs,
+        "--boundary",
+        &b,
+        "--out",
+        &out("r2.csv"),
+    ]);
+    ok(&o);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("computed with gravity"));
+    refused(
+        &cli(&[
+            "reach",
+            "--rig",
+            soft,
+            "--directions",
+            &dirs,
+            "--boundary",
+            &b,
+            "--azimuths",
+            "2",
+            "--out",
+            &out("r3.csv"),
+        ]),
+        &["azimuth", "gravity"],
+    );
+    // Between 0.6 and 1.1: gravity-free, with a warning past the margin (even with --quiet).
+    let o = cli(&[
+        "reach",
+        "--rig",
+        middle,
+        "--fibonacci",
+        "1",
+        "--quarter",
+        "--out",
+        &out("r4.csv"),
+    ]);
+    ok(&o);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("within the margin"));
+    let o = cli(&[
+        "--quiet",
+        "reach",
+        "--rig",
+        middle,
+        "--fibonacci",
+        "1",
+        "--quarter",
+        "--margin",
+        "0.02",
+        "--out",
+        &out("r5.csv"),
+    ]);
+    ok(&o);
+    let e = String::from_utf8_lossy(&o.stderr);
+    for n in [
+        "warning",
+        "L_gb/L = 0.70",
+        "more than the margin",
+        "--boundary",
+    ] {
+        assert!(e.contains(n), "{n:?} missing from: {e}");
+    }
+}

@@ -1313,3 +1313,35 @@ fn statics_weight_gives_the_clamped_beam_sag() {
     }
     assert!((mids[1].y / mids[0].y - 2.0).abs() < 0.01, "{mids:?}");
 }
+
+/// The planning commands' estimate of gravity's shift of s*
+/// ([`helixreach::rod::gravity::estimated_shift`]: 1 % at `L_gb/L` = 1.1, scaled by Koiter's
+/// two-thirds law) against DER statics with the seed rig's own weight, rod up, on the seed's
+/// two snapping directions (1, 1, −1) and (0.594, 0.698, 0.4): the estimate bounds both
+/// computed shifts, and is within a factor 2 of the larger one (it is not a loose bound).
+#[test]
+fn the_planning_estimate_of_gravitys_shift_bounds_der_statics_on_the_seed_rod() {
+    use helixreach::boundary::der::{critical_s_gravity, gravity_in_helix_frame};
+    use helixreach::math::Mat3;
+    use helixreach::rod::gravity::{assess, estimated_shift};
+    let rig = helixreach::planning::rig::Rig::load("sawyer-seed").unwrap();
+    let ratio = assess(&rig.rod, 9.81).unwrap().lgb_over_l;
+    let w = gravity_in_helix_frame(
+        &rig.rod,
+        &Mat3::identity(),
+        0.0,
+        &Vec3::new(0.0, 0.0, -9.81),
+    )
+    .unwrap();
+    let p = gravity_params(40);
+    let mut largest: Real = 0.0;
+    for d in [(1.0, 1.0, -1.0), (0.594, 0.698, 0.4)] {
+        let d = Direction::new(d.0, d.1, d.2).unwrap();
+        let s0 = critical_s(&d, &p).unwrap().s_star;
+        let sg = critical_s_gravity(&d, &p, w).unwrap().s_star;
+        largest = largest.max(((sg - s0) / s0).abs());
+    }
+    let est = estimated_shift(ratio);
+    eprintln!("L_gb/L = {ratio}: estimated shift {est}, largest DER shift {largest}");
+    assert!(largest <= est && est <= 2.0 * largest, "{largest} vs {est}");
+}

@@ -87,3 +87,168 @@ pub fn assess(rod: &PhysicalRod, g: Real) -> Result<GravityAssessment> {
         negligible: ratio >= MEASURED_LGB_THRESHOLD,
     })
 }
+
+/// The static criterion (`docs/RESULTS.md`, "gravity, DER statics"): above this `L_gb/L`,
+/// gravity moves s* by less than 1 % on the seed's three directions, rod up or horizontal (the
+/// largest of the six crossings: 1.10 on (1, 1, −1) horizontal).
+pub const STATIC_LGB_THRESHOLD: Real = 1.1;
+
+/// The estimated relative shift of s* by gravity at `L_gb/L = ratio` on a snapping direction:
+/// 1 % at [`STATIC_LGB_THRESHOLD`], scaled by Koiter's two-thirds law — the weight is an
+/// imperfection, `|Δs*|/s* ∝ g^{2/3}`, and the nondimensional weight `½(L/L_gb)³` is linear in
+/// g, so `|Δs*|/s* ≈ 0.01·(1.1/ratio)²`. It holds while the loaded branch stays the one that
+/// snaps: below [`SEED_LGB_THRESHOLD`] the statics show s* jumping to another branch
+/// ((1, 1, 1) horizontal: s* ≈ 22 instead of 10.75), so no estimate is given there.
+///
+/// ```
+/// use helixreach::rod::gravity::estimated_shift;
+/// assert!((estimated_shift(1.1) - 0.01).abs() < 1e-15);
+/// assert!((estimated_shift(0.55) - 0.04).abs() < 1e-15);
+/// ```
+pub fn estimated_shift(ratio: Real) -> Real {
+    0.01 * (STATIC_LGB_THRESHOLD / ratio).powi(2)
+}
+
+/// How a planning command (`reach`, `plan`, `layout`, `campaign`) accounts for gravity: it
+/// plans to s*·(1 + margin), so a gravity-free s* serves as long as gravity moves the true s*
+/// by less than the margin. The threshold is the seed paper's [`SEED_LGB_THRESHOLD`]: above
+/// it the statics move s* by at most ≈ 3.4 % on snapping directions (the
+/// [`estimated_shift`] at 0.6) and stay on the snapping branch; below it the commands need a
+/// boundary computed with gravity.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(tag = "gravity", rename_all = "snake_case")]
+pub enum PlanningGravity {
+    /// `L_gb/L ≥` [`STATIC_LGB_THRESHOLD`]: gravity moves s* by less than 1 %; the gravity-free
+    /// boundary is used.
+    Negligible {
+        /// `L_gb/L` of the rod.
+        lgb_over_l: Real,
+    },
+    /// [`SEED_LGB_THRESHOLD`] `≤ L_gb/L <` [`STATIC_LGB_THRESHOLD`]: the gravity-free boundary
+    /// is used, gravity moving s* by about the [`estimated_shift`]. Within the margin the plan
+    /// still passes the snap; past it ([`PlanningGravity::beyond_margin`]) the commands warn
+    /// that a plan may stop short of the snap by the difference.
+    Estimated {
+        /// `L_gb/L` of the rod.
+        lgb_over_l: Real,
+        /// [`estimated_shift`] (relative).
+        shift: Real,
+        /// The smallest planning margin of the rig.
+        margin: Real,
+    },
+    /// The boundary was computed with gravity (`boundary --method der --gravity`) at this
+    /// azimuth, the only one the command plans at.
+    Included {
+        /// Gravity of the boundary (m/s²).
+        g: Real,
+        /// Its azimuth (rad).
+        azimuth: Real,
+    },
+}
+
+impl PlanningGravity {
+    /// Whether gravity may move s* past the margin planned to (a plan on the gravity-free
+    /// boundary may then stop short of the snap).
+    pub fn beyond_margin(&self) -> bool {
+        matches!(*self, PlanningGravity::Estimated { shift, margin, .. } if shift > margin)
+    }
+}
+
+impl std::fmt::Display for PlanningGravity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            PlanningGravity::Negligible { lgb_over_l } => write!(
+                f,
+                "L_gb/L = {lgb_over_l:.3} >= {STATIC_LGB_THRESHOLD}: gravity moves s* by < 1 %; \
+                 gravity-free boundary"
+            ),
+            PlanningGravity::Estimated {
+                lgb_over_l,
+                shift,
+                margin,
+            } if shift <= margin => write!(
+                f,
+                "L_gb/L = {lgb_over_l:.3}: gravity moves s* by about {:.1} %, within the margin \
+                 {:.1} %; gravity-free boundary",
+                100.0 * shift,
+                100.0 * margin
+            ),
+            PlanningGravity::Estimated {
+                lgb_over_l,
+                shift,
+                margin,
+            } => write!(
+                f,
+                "L_gb/L = {lgb_over_l:.3}: gravity moves s* by about {:.1} %, more than the \
+                 margin {:.1} %: with the gravity-free boundary a plan may stop short of the \
+                 snap by up to {:.1} % (for the boundary with gravity: `helixreach boundary \
+                 --method der --gravity`, then `--boundary`)",
+                100.0 * shift,
+                100.0 * margin,
+                100.0 * (shift - margin)
+            ),
+            PlanningGravity::Included { g, azimuth } => write!(
+                f,
+                "boundary computed with gravity g = {g} m/s² at azimuth {azimuth} rad"
+            ),
+        }
+    }
+}
+
+/// Decide how a planning command on `rod` (the rig `rig`'s, for messages) with the smallest
+/// margin `margin` accounts for gravity ([`PlanningGravity`]). `boundary_gravity`: the
+/// `(g, azimuth)` of a boundary table computed with gravity, if one is given; `azimuths`: the
+/// azimuths the command plans at (a boundary with gravity holds for its own azimuth only).
+///
+/// Errors (naming the rod's ratio and the way out) when `L_gb/L` is below
+/// [`SEED_LGB_THRESHOLD`] — where the [`estimated_shift`] is not trusted, gravity can move s*
+/// to another branch — and no boundary with gravity is given, or when such a boundary's
+/// azimuth is not the one planned at.
+pub fn planning_gravity(
+    rod: &PhysicalRod,
+    rig: &str,
+    margin: Real,
+    boundary_gravity: Option<(Real, Real)>,
+    azimuths: &[Real],
+) -> Result<PlanningGravity> {
+    if let Some((g, azimuth)) = boundary_gravity {
+        if let Some(a) = azimuths.iter().find(|a| (**a - azimuth).abs() > 1e-12) {
+            return Err(crate::Error::invalid(
+                "azimuth",
+                a,
+                format!(
+                    "the boundary was computed with gravity at azimuth {azimuth} rad, and \
+                     gravity makes s* depend on the azimuth: plan at that azimuth only \
+                     (--azimuths 1 plans at 0; or a rig with azimuth.choices = [{azimuth}]), or \
+                     compute one boundary per azimuth"
+                ),
+            ));
+        }
+        return Ok(PlanningGravity::Included { g, azimuth });
+    }
+    let ratio = assess(rod, crate::rod::dynamics::presets::STANDARD_GRAVITY)?.lgb_over_l;
+    if ratio >= STATIC_LGB_THRESHOLD {
+        return Ok(PlanningGravity::Negligible { lgb_over_l: ratio });
+    }
+    if ratio >= SEED_LGB_THRESHOLD {
+        return Ok(PlanningGravity::Estimated {
+            lgb_over_l: ratio,
+            shift: estimated_shift(ratio),
+            margin,
+        });
+    }
+    let why = format!(
+        "is below {SEED_LGB_THRESHOLD}, where gravity can move s* to another branch \
+         (`helixreach rod --rig {rig}`)"
+    );
+    Err(crate::Error::invalid(
+        format!("rod of rig {rig}: L_gb/L"),
+        format!("{ratio:.3}"),
+        format!(
+            "{why}: the gravity-free boundary would not do. Compute the boundary with gravity, \
+             `helixreach boundary --method der --gravity --rig {rig} --azimuth A <directions> \
+             --out b.csv`, and pass `--boundary b.csv` (`plan`: `--s-star`), planning at that \
+             azimuth"
+        ),
+    ))
+}

@@ -34,6 +34,7 @@ pub use crate::records::REACH_HEADER;
 pub struct BoundaryTable {
     map: HashMap<[i64; 3], Real>,
     path: std::path::PathBuf,
+    gravity: Option<(Real, Real)>,
 }
 
 fn key_of(d: &Direction) -> [i64; 3] {
@@ -98,7 +99,14 @@ impl BoundaryTable {
         Ok(BoundaryTable {
             map,
             path: path.to_path_buf(),
+            gravity: sidecar_gravity(path)?,
         })
+    }
+
+    /// `(g, azimuth)` when the table was computed with gravity (`boundary --method der
+    /// --gravity`, recorded in its sidecar); `None` for a gravity-free boundary.
+    pub fn gravity(&self) -> Option<(Real, Real)> {
+        self.gravity
     }
 
     /// s* of `dir`, if listed.
@@ -156,6 +164,40 @@ impl BoundaryTable {
     pub fn is_empty(&self) -> bool {
         self.map.is_empty()
     }
+}
+
+/// The `(gravity, azimuth)` settings of the boundary CSV `path`'s sidecar, when it has them.
+fn sidecar_gravity(path: &Path) -> Result<Option<(Real, Real)>> {
+    let Some(record) = crate::sweep::record::SettingsRecord::read(path)? else {
+        return Ok(None);
+    };
+    let Some(g) = record.settings.get("gravity") else {
+        return Ok(None);
+    };
+    let sidecar = crate::io::sidecar_path(path);
+    let num = |name: &str, text: Option<&String>| -> Result<Real> {
+        let text = text.ok_or_else(|| {
+            Error::invalid(
+                format!("{}: settings.{name}", sidecar.display()),
+                "missing",
+                "a boundary with gravity records its azimuth",
+            )
+        })?;
+        text.parse::<Real>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| {
+                Error::invalid(
+                    format!("{}: settings.{name}", sidecar.display()),
+                    text,
+                    "not a finite number",
+                )
+            })
+    };
+    Ok(Some((
+        num("gravity", Some(g))?,
+        num("azimuth", record.settings.get("azimuth"))?,
+    )))
 }
 
 /// s* of `dir`: from `table` when given (a missing direction is an error naming it), else the

@@ -153,6 +153,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (vec![planner], rays, Vec::new(), "rig".to_string())
         }
     };
+    for (i, planner) in planners.iter().enumerate() {
+        let mut azimuths: Vec<f64> = rays
+            .iter()
+            .filter(|r| r.placement == i + 1)
+            .flat_map(|r| r.azimuths.iter().copied())
+            .collect();
+        azimuths.sort_by(f64::total_cmp);
+        azimuths.dedup();
+        let name = planner.rig().source.clone();
+        super::gravity_gate(planner.rig(), &name, None, boundary.as_ref(), &azimuths)?;
+    }
     let roll = args.roll.unwrap_or(planners[0].rig().roll);
     if args.out.exists() {
         anyhow::ensure!(

@@ -110,6 +110,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(p) => Some(BoundaryTable::read(p)?),
         None => None,
     };
+    super::gravity_gate(
+        &rig,
+        &args.rig,
+        opts.margin,
+        table.as_ref(),
+        opts.azimuths.as_deref().unwrap_or(&rig.azimuths),
+    )?;
     let control = RunControl {
         resume: args.resume,
         force: args.force,

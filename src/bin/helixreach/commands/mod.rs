@@ -119,3 +119,33 @@ pub fn with_threads<T: Send>(
         .map_err(|e| anyhow::anyhow!("--threads {n}: cannot start the worker threads: {e}"))?
         .install(go)
 }
+
+/// Gravity for a planning command (`reach`, `plan`, `layout`, `campaign`) on `rig` (named
+/// `rig_name` in messages): [`helixreach::rod::gravity::planning_gravity`] with the smallest
+/// margin planned to (`margin`, else the rig's), the boundary table's gravity if one is given,
+/// and the azimuths planned at. Prints the verdict on stderr (a warning, whatever `--quiet`,
+/// when gravity may move s* past the margin); an error when the gravity-free boundary would
+/// not do.
+pub fn gravity_gate(
+    rig: &helixreach::planning::rig::Rig,
+    rig_name: &str,
+    margin: Option<f64>,
+    table: Option<&helixreach::sweep::reach::BoundaryTable>,
+    azimuths: &[f64],
+) -> anyhow::Result<()> {
+    let p = &rig.planner;
+    let m = margin.unwrap_or_else(|| p.margin.min(p.margin_supercritical.unwrap_or(p.margin)));
+    let g = helixreach::rod::gravity::planning_gravity(
+        &rig.rod,
+        rig_name,
+        m,
+        table.and_then(|t| t.gravity()),
+        azimuths,
+    )?;
+    if g.beyond_margin() {
+        eprintln!("warning: gravity: {g}");
+    } else {
+        status!("gravity: {g}");
+    }
+    Ok(())
+}

@@ -135,11 +135,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(a) => vec![a],
         None => rig.azimuths.clone(),
     };
-    let planner = Planner::new(rig)?;
     let s_star = match args.s_star {
         Some(s) => s,
-        None => s_star_of(&dir, None)?,
+        None => {
+            super::gravity_gate(&rig, &args.rig, None, None, &azimuths)?;
+            s_star_of(&dir, None)?
+        }
     };
+    let planner = Planner::new(rig)?;
     let t0 = std::time::Instant::now();
     // The bifurcation type decides the margin past s* only when the rig's margins differ.
     let plan = plan_run(&planner, &dir, s_star, &azimuths, roll)?;

@@ -71,15 +71,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             None => rig.azimuths.clone(),
         },
     };
+    let table = match &args.boundary {
+        Some(p) => Some(BoundaryTable::read(p)?),
+        None => None,
+    };
+    super::gravity_gate(&rig, &args.rig, None, table.as_ref(), &opts.azimuths)?;
     let planner = Planner::new(rig)?;
     status!(
         "reconfiguration at a held pose: {}",
         planner.reconfiguration()
     );
-    let table = match &args.boundary {
-        Some(p) => Some(BoundaryTable::read(p)?),
-        None => None,
-    };
     let mut sweep = SweepOptions::new(&args.out, REACH_HEADER, 3);
     sweep.resume = args.resume;
     sweep.force = args.force;

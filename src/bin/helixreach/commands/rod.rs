@@ -3,7 +3,9 @@
 //! paper's criterion (negligible above 0.6) and helixreach's measured one
 //! ([`helixreach::rod::gravity`] says how each was obtained). With `--rig`, also how the rig's
 //! clamp orients gravity against the rod (the cosine between the clamp tangent d3 and the
-//! base frame's up, +z). JSON on stdout.
+//! base frame's up, +z), and what `reach`, `plan`, `layout` and `campaign` do with this rod
+//! (`planning`: [`helixreach::rod::gravity::planning_gravity`] at the rig's margin). JSON on
+//! stdout.
 
 use helixreach::math::Real;
 use helixreach::rod::dynamics::presets::{Preset, STANDARD_GRAVITY};
@@ -68,6 +70,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             },
         })
     });
+    // What reach, plan, layout and campaign do with this rig's rod (rod::gravity::planning_gravity).
+    let planning = resolved.rig.as_ref().map(|rig| {
+        let p = &rig.planner;
+        let margin = p.margin.min(p.margin_supercritical.unwrap_or(p.margin));
+        match helixreach::rod::gravity::planning_gravity(
+            &resolved.rod,
+            &resolved.source,
+            margin,
+            None,
+            &rig.azimuths,
+        ) {
+            Ok(v) => serde_json::json!({ "verdict": v, "meaning": v.to_string() }),
+            Err(e) => serde_json::json!({ "verdict": "refused", "meaning": e.to_string() }),
+        }
+    });
     let json = serde_json::json!({
         "rod_source": resolved.source,
         "rod": resolved.rod,
@@ -76,7 +93,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "criteria": {
             "seed": "the seed paper's Fig. 5(c): DER dynamics along [1,1,1]/sqrt(3), paper-sim rod, L_gb/L in 0.2..1.4, read by eye (no tolerance stated)",
             "measured": "DER dynamics along [1,1,1]/sqrt(3), paper-sim rod, rod up, n = 30, ray speed 0.01/s: the L_gb/L at which s_dyn moves by 1 % from the gravity-free run, interpolated between 3 (-0.65 %) and 2 (-1.02 %) (docs/RESULTS.md)",
+            "static": "DER statics with the weight, n = 40, the seed's three directions, rod up and horizontal: gravity moves s* by 1 % at L_gb/L = 1.1 at most; below, the shift is estimated as 1 % x (1.1 / (L_gb/L))^2 (Koiter's two-thirds law), trusted down to 0.6 (docs/RESULTS.md)",
         },
+        "planning": planning,
         "clamp": clamp,
     });
     let stdout = std::io::stdout();
