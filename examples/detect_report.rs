@@ -14,7 +14,7 @@ use helixreach::directions::Direction;
 use helixreach::io::{parse_field, CsvInput};
 use helixreach::math::Real;
 use helixreach::planning::rig::Rig;
-use helixreach::planning::witness::read_seed_runs;
+use helixreach::records::clamp_runs::read_seed_runs;
 use helixreach::records::csv_out;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};

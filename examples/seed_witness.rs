@@ -25,7 +25,8 @@ use helixreach::planning::planner::{Planner, ReachClass, RigOverrides};
 use helixreach::planning::pose_path::PoseMap;
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::planning::self_motion::{self, Held, WalkSettings, Q};
-use helixreach::planning::witness::{self, read_seed_runs, SeedRun as Run};
+use helixreach::planning::witness::{self, SeedRun as Run};
+use helixreach::records::clamp_runs::read_seed_runs;
 use helixreach::robot::{IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
 
@@ -62,11 +63,12 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
         plan.reconfigurations
     );
     // The seed's run as a witness.
-    let tr = witness::witness(
-        &planner,
+    let names: Vec<String> = model.joints().iter().map(|j| j.name.clone()).collect();
+    let traj = helixreach::records::trajectory::read_joint_file(
         &seed.join("trajectories").join(&run.file),
-        &run.dir,
+        &names,
     )?;
+    let tr = witness::witness(&planner, &traj, &run.dir)?;
     let s_rows = &tr.s_rows;
     let i_max = tr.far_row;
     let far100 = tr.s_far_discrete;

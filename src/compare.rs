@@ -11,11 +11,11 @@
 //! simulated value. Directions without one (absent from the boundary file, or `s_sim = ∞`)
 //! keep their row, with empty simulated fields, and are listed in [`Comparison::missing`].
 //!
-//! # Input
-//! [`read_measured`] reads a CSV with exactly the columns `dir_kappa,dir_tau,dir_omega,s_measured`
+//! # Input (read by `records::compare::read_measured`; this module imports no file format)
+//! `read_measured` reads a CSV with exactly the columns `dir_kappa,dir_tau,dir_omega,s_measured`
 //! (any order; an unknown column is an error, so a misspelt column is never silently ignored),
 //! or the output of `helixreach detect --runs` (those four and the other columns of
-//! [`DetectRunRecord`](crate::records::detect::DetectRunRecord)), whose rows with an empty
+//! `DetectRunRecord`), whose rows with an empty
 //! `s_measured` (no snap seen) are skipped with one note.
 //! Every value must be finite, `s_measured > 0`, κ̂ ≥ 0. A direction that is not a unit vector
 //! is normalized and a note is returned (the caller prints it), as `helixreach boundary` does.
@@ -37,20 +37,12 @@
 //! ```
 
 use crate::directions::Direction;
-use crate::error::{Error, Result};
-use crate::io::{bad_line, parse_field, CsvInput};
 use crate::math::Real;
-use std::path::Path;
 
 /// Largest component difference between two unit directions that are the same ray.
 pub const MATCH_TOL: Real = 1e-5;
 /// A direction whose norm differs from 1 by more than this is reported as normalized.
 pub const NORM_NOTE_TOL: Real = 1e-6;
-/// The measured-file columns.
-pub const MEASURED_COLUMNS: [&str; 4] = ["dir_kappa", "dir_tau", "dir_omega", "s_measured"];
-/// The comparison CSV columns, in order ([`ComparisonRecord`](crate::records::compare::ComparisonRecord)).
-pub const HEADER: &[&str] =
-    <crate::records::compare::ComparisonRecord as crate::records::csv_out::CsvRecord>::HEADER;
 
 /// One measured snap point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,92 +62,6 @@ pub struct MeasuredSet {
     pub rows: Vec<Measured>,
     /// Notes (normalized directions), one per affected line.
     pub notes: Vec<String>,
-}
-
-/// Read a measured-boundary CSV (see the module docs).
-pub fn read_measured(path: &Path) -> Result<MeasuredSet> {
-    let mut t = CsvInput::open(path)?;
-    let headers: Vec<String> = match t.reader.headers() {
-        Ok(h) => h.iter().map(str::to_string).collect(),
-        Err(e) => return Err(t.file_error(e.to_string())),
-    };
-    use crate::records::csv_out::CsvRecord;
-    let detect_columns = crate::records::detect::DetectRunRecord::HEADER;
-    let is_detect = headers.iter().any(|h| h == "reason");
-    for h in &headers {
-        if !(MEASURED_COLUMNS.contains(&h.as_str())
-            || (is_detect && detect_columns.contains(&h.as_str())))
-        {
-            return Err(t.file_error(format!(
-                "unknown column `{h}` (expected exactly {})",
-                MEASURED_COLUMNS.join(",")
-            )));
-        }
-    }
-    let hint = "header must be dir_kappa,dir_tau,dir_omega,s_measured";
-    let cols = [
-        t.column("dir_kappa", hint)?,
-        t.column("dir_tau", hint)?,
-        t.column("dir_omega", hint)?,
-        t.column("s_measured", hint)?,
-    ];
-    let mut rows = Vec::new();
-    let mut notes = Vec::new();
-    let mut no_snap = 0;
-    for (k, rec) in t.reader.records().enumerate() {
-        let rec = rec.map_err(|e| bad_line(path, k + 2, "record", e.to_string()))?;
-        let line = crate::io::line_of(&rec, k + 2);
-        if is_detect && rec.get(cols[3]).is_some_and(str::is_empty) {
-            no_snap += 1;
-            continue;
-        }
-        let mut v = [0.0; 4];
-        for (i, (&c, name)) in cols.iter().zip(MEASURED_COLUMNS).enumerate() {
-            let x = parse_field(path, line, &rec, c, name)?;
-            if !x.is_finite() {
-                return Err(bad_line(path, line, name, format!("{x} is not finite")));
-            }
-            v[i] = x;
-        }
-        if v[3] <= 0.0 {
-            return Err(bad_line(
-                path,
-                line,
-                "s_measured",
-                format!("{} must be > 0", v[3]),
-            ));
-        }
-        let dir = Direction::new(v[0], v[1], v[2])
-            .map_err(|e| bad_line(path, line, "direction", e.to_string()))?;
-        let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        if (norm - 1.0).abs() > NORM_NOTE_TOL {
-            notes.push(format!(
-                "{}:{line}: direction ({}, {}, {}) has norm {norm}; normalized",
-                path.display(),
-                v[0],
-                v[1],
-                v[2]
-            ));
-        }
-        rows.push(Measured {
-            dir,
-            s_measured: v[3],
-            line,
-        });
-    }
-    if no_snap > 0 {
-        notes.push(format!(
-            "{}: {no_snap} runs without a snap (empty s_measured) skipped",
-            path.display()
-        ));
-    }
-    if rows.is_empty() {
-        return Err(Error::File {
-            path: path.to_path_buf(),
-            reason: "no measured directions".into(),
-        });
-    }
-    Ok(MeasuredSet { rows, notes })
 }
 
 /// Whether `a` and `b` are the same ray (largest component difference ≤ [`MATCH_TOL`]).
@@ -296,13 +202,6 @@ pub fn compare(measured: &[Measured], sim: &[Option<Real>]) -> Comparison {
 }
 
 impl Comparison {
-    /// The CSV text (header [`HEADER`], one row per measured direction).
-    pub fn to_csv(&self) -> Result<String> {
-        let rows: Vec<crate::records::compare::ComparisonRecord> =
-            self.rows.iter().map(Into::into).collect();
-        crate::records::csv_out::to_csv(&rows)
-    }
-
     /// The JSON summary: `{count, mean, max, std, std_kind: "population", mean_signed_diff,
     /// missing: [{line, dir_kappa, dir_tau, dir_omega}]}` (`lines` are those of `measured`).
     pub fn summary_json(&self, measured: &[Measured]) -> serde_json::Value {

@@ -8,6 +8,7 @@
 //! | parameter | limit | why |
 //! |---|---|---|
 //! | directions in a set (`--fibonacci`, rows of a `--directions` CSV) | [`MAX_DIRECTIONS`] = 10,000,000 | 171× the paper's sweep; ~1 GB of rows |
+//! | rows of a trajectory file (`check`, `render`, `plot trajectory`) | [`MAX_TRAJECTORY_ROWS`] = 1,000,000 | 500× the seed's runs |
 //! | DER edges (`--n-edges`) | [`MAX_N_EDGES`] = 10,000 | 100× the default; cost grows ~n² per direction |
 //! | azimuths per ray (`--azimuths`, rig `azimuths`) | [`MAX_AZIMUTHS`] = 3,600 | 0.1° spacing |
 //! | IK redundancy samples (`ik --samples`) | [`MAX_IK_SAMPLES`] = 100,000 | |
@@ -40,6 +41,9 @@ use crate::error::{Error, Result};
 
 /// Most directions in one direction set.
 pub const MAX_DIRECTIONS: usize = 10_000_000;
+/// Most rows of a trajectory file (`check --trajectory`, `render --trajectory`, the figure's
+/// trajectory; [`crate::records::trajectory::read_trajectory_file`]).
+pub const MAX_TRAJECTORY_ROWS: usize = 1_000_000;
 /// Most DER edges.
 pub const MAX_N_EDGES: usize = 10_000;
 /// Most azimuths tried per ray.

@@ -3,8 +3,9 @@
 //! cause and no files, and bad input is an error naming file, line and value with nothing
 //! written.
 
-use helixreach::planning::check::{CheckOptions, Checker, JointFile};
+use helixreach::planning::check::{CheckOptions, Checker};
 use helixreach::planning::rig::Rig;
+use helixreach::records::trajectory::read_joint_file;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -102,7 +103,7 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
         assert_eq!(num(r, "order") as usize, k + 1);
         assert_eq!(r["class"], "testable");
         // The run passes check: limits, collisions (rod too), steps, speeds, pose at its s.
-        let file = JointFile::read(&out.join(&r["file"]), &names).unwrap();
+        let file = read_joint_file(&out.join(&r["file"]), &names).unwrap();
         let d = helixreach::directions::Direction::new(
             num(r, "dir_kappa"),
             num(r, "dir_tau"),
@@ -130,7 +131,7 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
             "start" => assert_eq!(k, 0),
             "none" => assert_eq!(prev_end.as_deref(), Some(&first[..])),
             "reconfigure_at_straight" | "unclamp_move" => {
-                let mv = JointFile::read(&out.join(&r["transition_file"]), &names).unwrap();
+                let mv = read_joint_file(&out.join(&r["transition_file"]), &names).unwrap();
                 let rep = checker.check(&mv, &CheckOptions::default()).unwrap();
                 assert_eq!(rep.finding_mask(), 0, "{kind}: {:?}", rep.findings());
                 let close =
@@ -341,7 +342,7 @@ fn a_layout_campaign_groups_runs_by_placement() {
     let rig2 = Rig::load(lay.join("placement_2.toml").to_str().unwrap()).unwrap();
     let checker = Checker::new(rig2).unwrap();
     let r = &list[2];
-    let file = JointFile::read(&out.join(&r["file"]), &checker.joint_names()).unwrap();
+    let file = read_joint_file(&out.join(&r["file"]), &checker.joint_names()).unwrap();
     let opt = CheckOptions {
         direction: Some(
             helixreach::directions::Direction::new(

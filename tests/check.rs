@@ -9,9 +9,10 @@ mod common;
 use common::seed_dir;
 use helixreach::directions::Direction;
 use helixreach::planning::check::{
-    CheckOptions, CheckReport, Checker, Finding, JointFile, JUMP, SEED_HELD_EDGES,
+    CheckOptions, CheckReport, Checker, Finding, JUMP, SEED_HELD_EDGES,
 };
 use helixreach::planning::rig::Rig;
+use helixreach::records::trajectory::{parse_joint_file, read_joint_file};
 use std::path::Path;
 use std::process::Command;
 
@@ -72,9 +73,11 @@ fn check_run(base: &Checker, run: &Run, held_edges: usize) -> CheckReport {
 fn check_run_opts(base: &Checker, run: &Run, held_edges: usize, max_step: f64) -> CheckReport {
     let rig = base.rig().with_clamp_origin(run.clamp).unwrap();
     let checker = base.with_rig(rig).unwrap();
-    let traj = checker
-        .read(&seed_dir().join("trajectories").join(&run.file))
-        .unwrap();
+    let traj = read_joint_file(
+        &seed_dir().join("trajectories").join(&run.file),
+        &checker.joint_names(),
+    )
+    .unwrap();
     let opt = CheckOptions {
         direction: Some(Direction::new(1.0, run.c1, run.c2).unwrap()),
         held_edges,
@@ -173,7 +176,7 @@ fn a_trajectory_that_collides_or_leaves_the_limits_is_reported() {
     let path = seed_dir().join("trajectories").join(&run.file);
     // 1. An obstacle (a ball of 5 cm) where the motor tip is at row 500.
     let checker = base.with_rig(rig.clone()).unwrap();
-    let traj = checker.read(&path).unwrap();
+    let traj = read_joint_file(&path, &checker.joint_names()).unwrap();
     let tip = checker.model().tool_pose(traj.row(500)).unwrap().pos;
     let mut blocked = rig.clone();
     blocked.obstacles.push(
@@ -229,21 +232,21 @@ fn trajectory_formats_agree() {
     // column) and helixreach's q0.. CSV give the same joints.
     let names: Vec<String> = (0..7).map(|j| format!("right_j{j}")).collect();
     let p = Path::new("t.txt");
-    let ws = JointFile::parse(
+    let ws = parse_joint_file(
         "0 0.1 0.2 0.3 0.4 0.5 0.6\n# comment\n\n1 1 1 1 1 1 1\n",
         p,
         &names,
     )
     .unwrap();
-    let csv = JointFile::parse("0,0.1,0.2,0.3,0.4,0.5,0.6\n1,1,1,1,1,1,1\n", p, &names).unwrap();
-    let moveit = JointFile::parse(
+    let csv = parse_joint_file("0,0.1,0.2,0.3,0.4,0.5,0.6\n1,1,1,1,1,1,1\n", p, &names).unwrap();
+    let moveit = parse_joint_file(
         "time,right_j6,right_j5,right_j4,right_j3,right_j2,right_j1,right_j0\n\
          0,0.6,0.5,0.4,0.3,0.2,0.1,0\n1,1,1,1,1,1,1,1\n",
         p,
         &names,
     )
     .unwrap();
-    let own = JointFile::parse(
+    let own = parse_joint_file(
         "t,q0,q1,q2,q3,q4,q5,q6,motor,s\n0,0,0.1,0.2,0.3,0.4,0.5,0.6,0.25,0\n\
          1,1,1,1,1,1,1,1,0.5,1\n",
         p,
@@ -280,7 +283,7 @@ fn bad_trajectory_files_name_file_line_and_value() {
         ("t,q0,q1,q2,q3,q4,q5,q6\n", "bad.txt", "no joint rows"),
     ];
     for (text, at, what) in cases {
-        let e = JointFile::parse(text, p, &names).unwrap_err().to_string();
+        let e = parse_joint_file(text, p, &names).unwrap_err().to_string();
         assert!(
             e.contains("bad.txt") && e.contains(at) && e.contains(what),
             "{text:?}: {e}"

@@ -3,9 +3,10 @@
 //! measured at each row's own s: no projection artefact).
 
 use helixreach::directions::{fibonacci, Direction};
-use helixreach::planning::check::{CheckOptions, Checker, JointFile};
+use helixreach::planning::check::{CheckOptions, Checker};
 use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{Rig, RollMode};
+use helixreach::records::trajectory::parse_joint_file;
 use helixreach::sweep::reach::s_star_of;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -191,8 +192,8 @@ fn planned_trajectories_pass_the_gate_on_50_rays() {
             continue;
         }
         let traj = planner.trajectory(&plan).unwrap();
-        let text = traj.to_csv().unwrap();
-        let file = JointFile::parse(&text, Path::new("plan.csv"), &names).unwrap();
+        let text = helixreach::records::trajectory::trajectory_csv(&traj).unwrap();
+        let file = parse_joint_file(&text, Path::new("plan.csv"), &names).unwrap();
         let opt = CheckOptions {
             direction: Some(*d),
             ..CheckOptions::default()

@@ -7,8 +7,9 @@
 
 mod common;
 use common::seed_data;
-use helixreach::compare::{compare, match_boundary, read_measured, Measured};
+use helixreach::compare::{compare, match_boundary, Measured};
 use helixreach::directions::Direction;
+use helixreach::records::compare::read_measured;
 use std::path::PathBuf;
 use std::process::Command;
 

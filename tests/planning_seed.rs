@@ -18,7 +18,9 @@ use helixreach::math::{rot_z, Mat3, Real, Vec3};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass, RigOverrides};
 use helixreach::planning::pose_path::{pose_path, Ray, Spacing};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
-use helixreach::planning::witness::{self, read_seed_runs, SeedRun, Witness, WitnessEnd};
+use helixreach::planning::witness::{self, SeedRun, Witness, WitnessEnd};
+use helixreach::records::clamp_runs::read_seed_runs;
+use helixreach::records::trajectory::read_joint_file;
 use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -74,13 +76,14 @@ fn key(c: [Real; 3]) -> [i64; 3] {
 /// `fixed`, azimuth 0 ([`helixreach::planning::witness`]: projection onto our ray, correction
 /// onto our pose, jumps classified by self-motion walks at the held pose).
 fn witness(planner: &Planner, r: &SeedRun) -> Witness {
-    witness::witness(
-        planner,
-        &seed_dir().join("trajectories").join(&r.file),
-        &r.dir,
-    )
-    .unwrap()
-    .verdict
+    let names: Vec<String> = planner
+        .model()
+        .joints()
+        .iter()
+        .map(|j| j.name.clone())
+        .collect();
+    let traj = read_joint_file(&seed_dir().join("trajectories").join(&r.file), &names).unwrap();
+    witness::witness(planner, &traj, &r.dir).unwrap().verdict
 }
 
 /// The seed's 58 directions, each with its own clamp, margin 0, roll `fixed`: the real robot

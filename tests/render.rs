@@ -302,7 +302,7 @@ fn plan_csv(rig: &Rig, azimuth: f64) -> String {
         .plan_ray(&dir, s_star, azimuth, RollMode::Fixed, true)
         .unwrap();
     assert!(plan.s_reached > 0.5 * s_star, "the test ray must get far");
-    planner.trajectory(&plan).unwrap().to_csv().unwrap()
+    helixreach::records::trajectory::trajectory_csv(&planner.trajectory(&plan).unwrap()).unwrap()
 }
 
 #[test]

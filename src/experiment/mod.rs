@@ -28,6 +28,7 @@
 #![doc = "```"]
 
 mod boundary;
+pub mod campaign;
 mod dynamics;
 #[cfg(feature = "plots")]
 mod figures;

@@ -80,8 +80,16 @@ pub fn trajectory(st: &Settings, out: &Path) -> Result<PlannedTrajectory> {
         ));
     }
     let traj = planner.trajectory(&plan)?;
-    write(out, "trajectory.csv", &traj.to_csv()?)?;
-    write(out, "trajectory.json", &traj.to_json()?)?;
+    write(
+        out,
+        "trajectory.csv",
+        &crate::records::trajectory::trajectory_csv(&traj)?,
+    )?;
+    write(
+        out,
+        "trajectory.json",
+        &crate::records::trajectory::trajectory_json(&traj)?,
+    )?;
     let meta = crate::records::trajectory::trajectory_meta_json(&traj)?;
     write(out, "trajectory.csv.meta.json", &meta)?;
     write(out, "trajectory.json.meta.json", &meta)?;

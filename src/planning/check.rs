@@ -2,18 +2,10 @@
 //! self / scene / rod collision, joint steps and jumps, and — given the ray's direction — how far
 //! every row's end pose lies from the ray's pose curve.
 //!
-//! # Input ([`JointFile::read`])
-//! One configuration per line, in any of three forms (blank lines and `#` comments are skipped):
-//! - **whitespace numbers**, exactly one per joint (the seed's `trajectories/*.txt`:
-//!   `right_j0 … right_j6`);
-//! - **CSV without header**, exactly one number per joint;
-//! - **CSV with a header**: the columns named like the robot's joints (`right_j0,…`, e.g. a
-//!   MoveIt export; extra columns such as `time` are ignored) or `q0,…,q{n-1}` (helixreach's own
-//!   `plan` CSV). A `motor` column, when present, is checked against the rig's motor range.
-//!
-//! Every row must have the same number of fields as the header (or as joints); every joint value
-//! must be a finite number. Errors name the file, the 1-based line, the column and the text.
-//! At most [`MAX_ROWS`] rows.
+//! # Input ([`JointFile`])
+//! The joints of every row (with the file's line numbers, and its `motor`, `t` and `s` columns
+//! when present), read by `records::trajectory::read_joint_file` — plan CSV, the seed's
+//! whitespace files, a MoveIt joint-name CSV; this module imports no file format.
 //!
 //! # Checks ([`check_trajectory`])
 //! - **Limits**: every joint inside its URDF limits (no tolerance: a real robot's controller
@@ -43,16 +35,12 @@ use crate::helix::Helix;
 use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
 use crate::planning::pose_path::PoseMap;
 use crate::planning::rig::{iso_from, tool_from_director, Rig, RobotSpec};
-use crate::records::check::CheckRowRecord;
-use crate::records::trajectory::{joint_column, MOTOR_COLUMN};
 use crate::robot::collision::{BodyRef, Contact};
 use crate::robot::{CollisionModel, CollisionWorkspace, Frame, RobotModel};
 use std::path::{Path, PathBuf};
 
 /// A joint step larger than this (rad, any joint) is a jump.
 pub const JUMP: Real = 0.2;
-/// Largest number of rows of a trajectory file.
-pub const MAX_ROWS: usize = 1_000_000;
 /// Grid step in s of the full scan of the pose projection.
 pub const SCAN_STEP: Real = 0.01;
 /// A local projection whose objective (`|Δp|²/L² + θ²`) exceeds this square is retried with a
@@ -96,161 +84,6 @@ impl JointFile {
     /// The joints of row `i`.
     pub fn row(&self, i: usize) -> &[Real] {
         &self.q[i * self.dof..(i + 1) * self.dof]
-    }
-
-    /// Read `path` for a robot whose joints are named `joint_names` (see the module docs).
-    pub fn read(path: &Path, joint_names: &[String]) -> Result<JointFile> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::parse(&text, path, joint_names)
-    }
-
-    /// [`JointFile::read`] on text already read; `path` names it in errors.
-    pub fn parse(text: &str, path: &Path, joint_names: &[String]) -> Result<JointFile> {
-        let dof = joint_names.len();
-        let bad = |line: usize, field: &str, reason: String| Error::BadLine {
-            path: path.to_path_buf(),
-            line,
-            field: field.to_string(),
-            reason,
-        };
-        let mut content = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l.trim()))
-            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
-            .peekable();
-        let Some(&(first_line, first)) = content.peek() else {
-            return Err(Error::File {
-                path: path.to_path_buf(),
-                reason: "empty file: no joint rows".into(),
-            });
-        };
-        let comma = first.contains(',');
-        let split = |l: &'_ str| -> Vec<String> {
-            if comma {
-                l.split(',').map(|x| x.trim().to_string()).collect()
-            } else {
-                l.split_whitespace().map(str::to_string).collect()
-            }
-        };
-        let first_fields = split(first);
-        let has_header = first_fields.iter().any(|f| f.parse::<Real>().is_err());
-        // Column of each joint, the motor column, the expected field count, and the format.
-        let (cols, extra_cols, n_fields, format) = if has_header {
-            content.next();
-            let find = |name: &str| first_fields.iter().position(|h| h == name);
-            let by_name: Option<Vec<usize>> = joint_names.iter().map(|n| find(n)).collect();
-            let by_q: Option<Vec<usize>> = (0..dof).map(|j| find(&joint_column(j))).collect();
-            let (cols, format) = match (by_name, by_q) {
-                (Some(c), _) => (c, "csv header: joint names"),
-                (None, Some(c)) => (c, "csv header: q0.."),
-                (None, None) => {
-                    return Err(bad(
-                        first_line,
-                        "header",
-                        format!(
-                            "`{first}` names neither the robot's joints ({}) nor q0..q{}",
-                            joint_names.join(","),
-                            dof.saturating_sub(1)
-                        ),
-                    ))
-                }
-            };
-            let t_col = find("t").or_else(|| find("time"));
-            (
-                cols,
-                [find(MOTOR_COLUMN), t_col, find("s")],
-                first_fields.len(),
-                format,
-            )
-        } else {
-            let format = if comma { "csv" } else { "whitespace" };
-            ((0..dof).collect(), [None; 3], dof, format)
-        };
-        let [motor_col, t_col, s_col] = extra_cols;
-        let mut q = Vec::new();
-        let mut lines = Vec::new();
-        let mut motor = motor_col.map(|_| Vec::new());
-        let mut times = t_col.map(|_| Vec::new());
-        let mut arcs = s_col.map(|_| Vec::new());
-        for (line, l) in content {
-            if lines.len() >= MAX_ROWS {
-                return Err(bad(
-                    line,
-                    "rows",
-                    format!("more than {MAX_ROWS} rows: not a trajectory this tool checks"),
-                ));
-            }
-            let f = split(l);
-            if f.len() != n_fields {
-                return Err(bad(
-                    line,
-                    "columns",
-                    format!(
-                        "{} fields, expected {n_fields} ({})",
-                        f.len(),
-                        if has_header {
-                            "as many as the header".to_string()
-                        } else {
-                            format!("one per joint: {}", joint_names.join(" "))
-                        }
-                    ),
-                ));
-            }
-            let num = |col: usize, name: &str| -> Result<Real> {
-                let s = &f[col];
-                let v = s
-                    .parse::<Real>()
-                    .map_err(|_| bad(line, name, format!("`{s}` is not a number")))?;
-                if v.is_finite() {
-                    Ok(v)
-                } else {
-                    Err(bad(line, name, format!("`{s}` is not a finite value")))
-                }
-            };
-            for (j, &c) in cols.iter().enumerate() {
-                q.push(num(c, &joint_names[j])?);
-            }
-            if let (Some(c), Some(m)) = (motor_col, motor.as_mut()) {
-                m.push(num(c, MOTOR_COLUMN)?);
-            }
-            if let (Some(c), Some(ts)) = (t_col, times.as_mut()) {
-                let t = num(c, &first_fields[c])?;
-                if let Some(&prev) = ts.last() {
-                    if t < prev {
-                        return Err(bad(
-                            line,
-                            &first_fields[c],
-                            format!("time {t} is before the previous row's {prev}"),
-                        ));
-                    }
-                }
-                ts.push(t);
-            }
-            if let (Some(c), Some(ss)) = (s_col, arcs.as_mut()) {
-                ss.push(num(c, "s")?);
-            }
-            lines.push(line);
-        }
-        if lines.is_empty() {
-            return Err(Error::File {
-                path: path.to_path_buf(),
-                reason: "no joint rows after the header".into(),
-            });
-        }
-        Ok(JointFile {
-            path: path.to_path_buf(),
-            dof,
-            q,
-            lines,
-            motor,
-            t: times,
-            s: arcs,
-            format: format.to_string(),
-        })
     }
 }
 
@@ -472,12 +305,13 @@ pub struct CheckReport {
 /// over many files with different clamps: see [`Checker::with_rig`]).
 ///
 /// ```
-/// use helixreach::planning::check::{CheckOptions, Checker, JointFile};
+/// use helixreach::planning::check::{CheckOptions, Checker};
 /// use helixreach::planning::rig::Rig;
+/// use helixreach::records::trajectory::parse_joint_file;
 /// let checker = Checker::new(Rig::load("sawyer-seed").unwrap()).unwrap();
 /// // Two rows; the second turns right_j6 past its upper limit (4.71 rad).
 /// let text = "0 -1 0 1.5 0 -0.5 0\n0 -1 0 1.5 0 -0.5 5.0\n";
-/// let traj = JointFile::parse(text, "t.txt".as_ref(), &checker.joint_names()).unwrap();
+/// let traj = parse_joint_file(text, "t.txt".as_ref(), &checker.joint_names()).unwrap();
 /// let rep = checker.check(&traj, &CheckOptions::default()).unwrap();
 /// assert_eq!((rep.rows, rep.limit_violations, rep.steps_over_jump), (2, 1, 1));
 /// assert!((rep.max_joint_step.0 - 5.0).abs() < 1e-12);
@@ -581,11 +415,6 @@ impl Checker {
     /// The robot's joint names, in file order.
     pub fn joint_names(&self) -> Vec<String> {
         self.model.joints().iter().map(|j| j.name.clone()).collect()
-    }
-
-    /// Read a trajectory file for this robot ([`JointFile::read`]).
-    pub fn read(&self, path: &Path) -> Result<JointFile> {
-        JointFile::read(path, &self.joint_names())
     }
 
     /// Check `traj` (see the module docs).
@@ -1204,32 +1033,5 @@ impl CheckReport {
             d.extend(g);
         }
         doc
-    }
-
-    /// The per-row CSV: `row,line,s,position_error,rotation_error,joint_step,limit,contacts,
-    /// scene_clearance,rod_clearance,self_collision,self_pairs` (empty fields where not
-    /// computed; `self_collision` 0 or 1, `self_pairs` every self-colliding link pair; contacts `a|b`
-    /// separated by `;`; a [`CheckRowRecord`] each).
-    pub fn rows_csv(&self) -> Result<String> {
-        let rows: Vec<CheckRowRecord<'_>> = self
-            .row_checks
-            .iter()
-            .enumerate()
-            .map(|(i, r)| CheckRowRecord {
-                row: i,
-                line: r.line,
-                s: r.s,
-                position_error: r.position_error,
-                rotation_error: r.rotation_error,
-                joint_step: r.joint_step,
-                limit: r.limit.as_deref().unwrap_or(""),
-                contacts: r.contacts.join(";"),
-                scene_clearance: r.scene_clearance,
-                rod_clearance: r.rod_clearance,
-                self_collision: u8::from(!r.self_pairs.is_empty()),
-                self_pairs: r.self_pairs.join(";"),
-            })
-            .collect();
-        crate::records::csv_out::to_csv(&rows)
     }
 }

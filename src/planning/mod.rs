@@ -24,7 +24,8 @@
 //! let s_star = helixreach::boundary::continuum::critical_s(&dir, 1e-10)?.s_star;
 //! let plan = planner.plan_ray(&dir, s_star, 0.0, RollMode::Fixed, true)?;
 //! let traj = planner.trajectory(&plan)?;
-//! std::fs::write("traj.csv", traj.to_csv()?).unwrap();
+//! let csv = helixreach::records::trajectory::trajectory_csv(&traj)?;
+//! std::fs::write("traj.csv", csv).unwrap();
 //! # Ok::<(), helixreach::Error>(())
 //! ```
 

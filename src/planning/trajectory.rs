@@ -51,7 +51,7 @@
 //! acceleration above: positions, velocities and accelerations at every point, consistent with
 //! the finite differences of the times and positions.
 //!
-//! # Outputs (written by [`crate::records::trajectory`])
+//! # Outputs (written by `records::trajectory`; this module imports no file format)
 //! - CSV: `t,<joint names>,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`, then the
 //!   velocities `v_<joint>..,v_motor` and accelerations `a_<joint>..,a_motor` (the URDF joint
 //!   names, as in the JSON; readers also take the earlier `q0..` header); the pose is the tool frame in the robot
@@ -615,18 +615,6 @@ pub fn time_parametrize(points: &mut [TrajectoryPoint], limits: &TimingLimits) -
 }
 
 impl Trajectory {
-    /// The CSV text (header + one row per point), full precision:
-    /// [`crate::records::trajectory::trajectory_csv`].
-    pub fn to_csv(&self) -> Result<String> {
-        crate::records::trajectory::trajectory_csv(self)
-    }
-
-    /// The JSON text shaped like ROS `trajectory_msgs/JointTrajectory` (motor as the last joint):
-    /// [`crate::records::trajectory::trajectory_json`].
-    pub fn to_json(&self) -> Result<String> {
-        crate::records::trajectory::trajectory_json(self)
-    }
-
     /// Total duration (s).
     pub fn duration(&self) -> Real {
         self.points.last().map_or(0.0, |p| p.t)

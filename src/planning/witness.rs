@@ -24,17 +24,22 @@
 //! `s_end` ([`WitnessEnd::Target`]) proves the ray testable. Used by `tests/planning_seed.rs`
 //! (every planner miss must be explained) and `examples/seed_witness.rs` (the per-run report).
 //!
-//! [`read_seed_runs`] reads the seed's run index (`trajectories.csv`: `file`, direction, clamp).
+//! `records::clamp_runs::read_seed_runs` reads the seed's run index (`trajectories.csv`: `file`,
+//! direction, clamp) and `records::trajectory::read_joint_file` a run's joint file; this module
+//! imports no file format.
 //!
 //! ```no_run
 //! use helixreach::planning::{planner::{Planner, RigOverrides}, rig::Rig, witness};
+//! use helixreach::records::{clamp_runs::read_seed_runs, trajectory::read_joint_file};
 //! let seed = std::path::Path::new("../shared/seed-data");
-//! let runs = witness::read_seed_runs(&seed.join("trajectories.csv"))?;
+//! let runs = read_seed_runs(&seed.join("trajectories.csv"))?;
 //! let r = &runs[0];
 //! let rig = RigOverrides { margin: Some(0.0), clamp: Some(r.clamp), ..Default::default() }
 //!     .apply(&Rig::load("sawyer-seed")?)?;
 //! let planner = Planner::new(rig)?;
-//! let w = witness::witness(&planner, &seed.join("trajectories").join(&r.file), &r.dir)?;
+//! let names: Vec<String> = planner.model().joints().iter().map(|j| j.name.clone()).collect();
+//! let traj = read_joint_file(&seed.join("trajectories").join(&r.file), &names)?;
+//! let w = witness::witness(&planner, &traj, &r.dir)?;
 //! println!("{}: a witness to s = {:.3}, then {:?}", r.file, w.verdict.extent, w.verdict.end);
 //! # Ok::<(), helixreach::Error>(())
 //! ```
@@ -64,21 +69,6 @@ pub struct SeedRun {
     pub dir: Direction,
     /// The clamp origin in the base frame (m).
     pub clamp: [Real; 3],
-}
-
-/// Read the seed's run index (`trajectories.csv`: columns `file`, `dir_kappa`, `dir_tau`,
-/// `dir_omega`, `clamp_x`, `clamp_y`, `clamp_z`); errors name the file, line and field.
-pub fn read_seed_runs(index: &Path) -> Result<Vec<SeedRun>> {
-    Ok(
-        crate::records::clamp_runs::read_clamped_directions(index, true)?
-            .into_iter()
-            .map(|r| SeedRun {
-                file: r.file.unwrap_or_default(),
-                dir: r.dir,
-                clamp: r.clamp,
-            })
-            .collect(),
-    )
 }
 
 /// How far a run is a witness (in `s` on our ray), and why it stops being one there.
@@ -152,13 +142,12 @@ fn max_diff(a: &[Real], b: &[Real]) -> Real {
         .fold(0.0, Real::max)
 }
 
-/// Classify the executed run in `joint_file` (any format [`Checker::read`] accepts) of the ray
-/// `dir` on `planner` (its rig with the run's clamp), roll `fixed`, azimuth 0; see the module
-/// docs. Errors when the file cannot be read or has no rows.
-pub fn witness(planner: &Planner, joint_file: &Path, dir: &Direction) -> Result<WitnessTrace> {
+/// Classify the executed run `traj` (its joint rows, as `records::trajectory::read_joint_file`
+/// reads any trajectory file) of the ray `dir` on `planner` (its rig with the run's clamp), roll
+/// `fixed`, azimuth 0; see the module docs. Errors when it has no rows.
+pub fn witness(planner: &Planner, traj: &JointFile, dir: &Direction) -> Result<WitnessTrace> {
     let checker = Checker::new(planner.rig().clone())?;
-    let traj = checker.read(joint_file)?;
-    witness_of(planner, &checker, &traj, dir, joint_file)
+    witness_of(planner, &checker, traj, dir, &traj.path)
 }
 
 fn witness_of(

@@ -1,14 +1,20 @@
 //! The records of a test campaign (`helixreach campaign --out DIR`,
-//! [`crate::planning::campaign`]): the ray sweep `rays.csv` ([`RayRunRecord`], what the sweep
+//! [`crate::experiment::campaign`]): the ray sweep `rays.csv` ([`RayRunRecord`], what the sweep
 //! driver checkpoints and `--resume` reads back) and the run list `campaign.csv`
-//! ([`CampaignRecord`], the runs in execution order, then the rays that are not testable).
+//! ([`CampaignRecord`], the runs in execution order, then the rays that are not testable); a
+//! move between runs ([`transition_csv`]); the layout folder a campaign reads ([`read_layout`]).
 //!
 //! Positions are metres in the robot base frame, times seconds, angles radians; numbers by
 //! [`fmt_real`](super::fmt_real); a value that does not apply is an empty field.
 
 use super::csv_out::{self, CsvRecord};
+use super::fmt_real;
+use crate::directions::Direction;
+use crate::error::{Error, Result};
 use crate::math::Real;
+use crate::planning::campaign::{Assigned, LayoutInput, Transition};
 use crate::records::columns::{Column, Kind};
+use std::path::Path;
 
 /// One planned ray of `rays.csv`. The key is the first four columns.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -192,6 +198,168 @@ impl CsvRecord for CampaignRecord {
         "ros2_file",
         "transition_file",
     ];
+}
+
+/// The move `t` as a joint CSV `t,<joint names>,motor` (what `helixreach check` reads, timed).
+pub fn transition_csv(t: &Transition, joint_names: &[String]) -> String {
+    let mut s = String::from("t");
+    for name in joint_names {
+        s.push(',');
+        s.push_str(name);
+    }
+    s.push_str(",motor\n");
+    for (t, q, m) in &t.points {
+        s.push_str(&fmt_real(*t));
+        for x in q {
+            s.push(',');
+            s.push_str(&fmt_real(*x));
+        }
+        s.push(',');
+        s.push_str(&fmt_real(*m));
+        s.push('\n');
+    }
+    s
+}
+
+/// Joints as the space-separated text of `rays.csv`.
+pub fn joints_text(q: &[Real]) -> String {
+    q.iter().map(|x| fmt_real(*x)).collect::<Vec<_>>().join(" ")
+}
+
+/// Joints from the space-separated text of `rays.csv` (`what` names the field in errors).
+pub fn parse_joints(text: &str, what: &str) -> Result<Vec<Real>> {
+    text.split_whitespace()
+        .map(|x| match x.parse::<Real>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(Error::invalid(what, x, "not a finite number")),
+        })
+        .collect()
+}
+
+/// Read `DIR/placements.csv` and `DIR/assignment.csv` (the layout input of [`crate::planning::campaign`]). Errors name the file, the
+/// line, the field and the value: a rig file that does not exist, a placement number out of
+/// order, an assignment to a placement not listed, a bad number or direction.
+pub fn read_layout(dir: &Path) -> Result<LayoutInput> {
+    let pf = dir.join("placements.csv");
+    if !pf.is_file() {
+        return Err(Error::File {
+            path: pf,
+            reason: "does not exist: not a `helixreach layout` folder".into(),
+        });
+    }
+    let mut t = crate::io::CsvInput::open(&pf)?;
+    let (ip, ir) = (t.column("placement", "")?, t.column("rig_file", "")?);
+    let mut rig_files = Vec::new();
+    for (k, rec) in t.reader.records().enumerate() {
+        let line = k + 2;
+        let rec = rec.map_err(|e| crate::io::bad_line(&pf, line, "record", e.to_string()))?;
+        let line = crate::io::line_of(&rec, line);
+        let p = rec.get(ip).unwrap_or("");
+        if p.parse::<usize>().ok() != Some(rig_files.len() + 1) {
+            return Err(crate::io::bad_line(
+                &pf,
+                line,
+                "placement",
+                format!(
+                    "`{p}`: expected {} (placements numbered 1, 2, … in order)",
+                    rig_files.len() + 1
+                ),
+            ));
+        }
+        let name = rec.get(ir).unwrap_or("");
+        let path = dir.join(name);
+        if name.is_empty() || !path.is_file() {
+            return Err(crate::io::bad_line(
+                &pf,
+                line,
+                "rig_file",
+                format!("`{name}`: {} does not exist", path.display()),
+            ));
+        }
+        rig_files.push(path);
+    }
+    if rig_files.is_empty() {
+        return Err(t.file_error("no placements".into()));
+    }
+    let af = dir.join("assignment.csv");
+    let mut t = crate::io::CsvInput::open(&af)?;
+    let hint = "an assignment.csv of helixreach layout";
+    let cols = [
+        t.column("dir_kappa", hint)?,
+        t.column("dir_tau", hint)?,
+        t.column("dir_omega", hint)?,
+    ];
+    let (ip, ia, ic, is) = (
+        t.column("placement", hint)?,
+        t.column("azimuth", hint)?,
+        t.column("class", hint)?,
+        t.column("s_reached", hint)?,
+    );
+    let mut assigned = Vec::new();
+    for (k, rec) in t.reader.records().enumerate() {
+        let line = k + 2;
+        let rec = rec.map_err(|e| crate::io::bad_line(&af, line, "record", e.to_string()))?;
+        let line = crate::io::line_of(&rec, line);
+        let mut v = [0.0; 3];
+        for (x, (&c, name)) in
+            v.iter_mut()
+                .zip(cols.iter().zip(["dir_kappa", "dir_tau", "dir_omega"]))
+        {
+            *x = crate::io::parse_field(&af, line, &rec, c, name)?;
+        }
+        let dir = Direction::new(v[0], v[1], v[2])
+            .map_err(|e| crate::io::bad_line(&af, line, "direction", e.to_string()))?;
+        let opt_num = |c: usize, name: &str| -> Result<Option<Real>> {
+            match rec.get(c).unwrap_or("") {
+                "" => Ok(None),
+                _ => {
+                    let x = crate::io::parse_field(&af, line, &rec, c, name)?;
+                    if x.is_finite() {
+                        Ok(Some(x))
+                    } else {
+                        Err(crate::io::bad_line(
+                            &af,
+                            line,
+                            name,
+                            format!("`{x}` is not finite"),
+                        ))
+                    }
+                }
+            }
+        };
+        let placement = match rec.get(ip).unwrap_or("") {
+            "" => None,
+            p => match p.parse::<usize>() {
+                Ok(n) if (1..=rig_files.len()).contains(&n) => Some(n),
+                _ => {
+                    return Err(crate::io::bad_line(
+                        &af,
+                        line,
+                        "placement",
+                        format!(
+                            "`{p}`: not a placement of {} (1..={})",
+                            pf.display(),
+                            rig_files.len()
+                        ),
+                    ))
+                }
+            },
+        };
+        assigned.push(Assigned {
+            dir,
+            placement,
+            azimuth: opt_num(ia, "azimuth")?,
+            class: rec.get(ic).unwrap_or("").to_string(),
+            s_reached: opt_num(is, "s_reached")?,
+        });
+    }
+    if assigned.is_empty() {
+        return Err(t.file_error("no directions".into()));
+    }
+    Ok(LayoutInput {
+        rig_files,
+        assigned,
+    })
 }
 
 #[cfg(test)]

@@ -1,9 +1,11 @@
 //! The per-row table of a trajectory check (`helixreach check --rows-out`,
-//! [`crate::planning::check::CheckReport::rows_csv`]): one [`CheckRowRecord`] per row of the
+//! [`check_rows_csv`]): one [`CheckRowRecord`] per row of the
 //! checked file; values not computed are empty fields.
 
 use super::csv_out::{self, CsvRecord};
+use crate::error::Result;
 use crate::math::Real;
+use crate::planning::check::CheckReport;
 
 /// One checked row.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -55,6 +57,33 @@ impl CsvRecord for CheckRowRecord<'_> {
         "self_collision",
         "self_pairs",
     ];
+}
+
+/// The per-row CSV: `row,line,s,position_error,rotation_error,joint_step,limit,contacts,
+/// scene_clearance,rod_clearance,self_collision,self_pairs` (empty fields where not
+/// computed; `self_collision` 0 or 1, `self_pairs` every self-colliding link pair; contacts `a|b`
+/// separated by `;`; a [`CheckRowRecord`] each).
+pub fn check_rows_csv(report: &CheckReport) -> Result<String> {
+    let rows: Vec<CheckRowRecord<'_>> = report
+        .row_checks
+        .iter()
+        .enumerate()
+        .map(|(i, r)| CheckRowRecord {
+            row: i,
+            line: r.line,
+            s: r.s,
+            position_error: r.position_error,
+            rotation_error: r.rotation_error,
+            joint_step: r.joint_step,
+            limit: r.limit.as_deref().unwrap_or(""),
+            contacts: r.contacts.join(";"),
+            scene_clearance: r.scene_clearance,
+            rod_clearance: r.rod_clearance,
+            self_collision: u8::from(!r.self_pairs.is_empty()),
+            self_pairs: r.self_pairs.join(";"),
+        })
+        .collect();
+    csv_out::to_csv(&rows)
 }
 
 #[cfg(test)]

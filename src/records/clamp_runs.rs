@@ -1,12 +1,13 @@
 //! Tables of directions with a clamp position: the seed's run index (`trajectories.csv`:
 //! `file,…,dir_kappa,dir_tau,dir_omega,clamp_x,clamp_y,clamp_z,…`), read by
-//! [`crate::planning::witness::read_seed_runs`], and the reference positions of
+//! [`read_seed_runs`], and the reference positions of
 //! `helixreach layout --reference` ([`crate::layout::read_references`]). Columns are found by
 //! name (others are ignored); errors name the file, the 1-based line and the field.
 
 use crate::directions::Direction;
 use crate::error::Result;
 use crate::math::Real;
+use crate::planning::witness::SeedRun;
 use std::path::Path;
 
 /// The columns read, in the order of [`ClampedDirection`]'s numbers.
@@ -80,6 +81,19 @@ pub fn read_clamped_directions(path: &Path, with_file: bool) -> Result<Vec<Clamp
         });
     }
     Ok(rows)
+}
+
+/// Read the seed's run index (`trajectories.csv`: columns `file`, `dir_kappa`, `dir_tau`,
+/// `dir_omega`, `clamp_x`, `clamp_y`, `clamp_z`); errors name the file, line and field.
+pub fn read_seed_runs(index: &Path) -> Result<Vec<SeedRun>> {
+    Ok(read_clamped_directions(index, true)?
+        .into_iter()
+        .map(|r| SeedRun {
+            file: r.file.unwrap_or_default(),
+            dir: r.dir,
+            clamp: r.clamp,
+        })
+        .collect())
 }
 
 #[cfg(test)]

@@ -1,5 +1,19 @@
-//! The records the figures draw, and their CSV readers.
+//! Every file format of helixreach: the records (rows) the commands write and read, and their
+//! readers and writers.
 //!
+//! # Layering
+//! `records` sits at the edge. It depends on the domain types it converts (directions,
+//! `boundary`, `planning`, `compare`, `detect`, `rod`, …); the domain modules — `planning`,
+//! `compare`, `boundary`, `helix`, `robot`, `rod`, `bifurcation`, `directions` — import no
+//! file format and nothing of `records` (they take and return values). Reading and writing
+//! files is done here and by the orchestration that runs a command into a folder, which calls
+//! these records: the sweep driver ([`crate::sweep`]), the study and the campaign
+//! ([`crate::experiment`]), the layout's sweep and reports ([`crate::layout`]), the batch
+//! detection of recorded runs ([`crate::detect`]), the figures and the command-line program.
+//! `records` imports none of those (only tests compare with them): a cycle through `records`
+//! is a bug.
+//!
+//! # The figures' readers
 //! Each reader looks columns up by header name, so extra columns are ignored and column order is
 //! free; only the columns a figure needs are required. Errors name the file, the 1-based line and
 //! the column ([`Error::BadLine`]), or the missing column together with the header that was found

@@ -5,9 +5,10 @@
 //!   `t,<joint names>,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`, then `v_<joint>..,v_motor`
 //!   and `a_<joint>..,a_motor` (the joints by their URDF names, as in the JSON and the sidecar;
 //!   the tool pose in the robot base frame, the quaternion scalar first; numbers by
-//!   [`fmt_real`](super::fmt_real)). Read back by [`read_trajectory`](super::read_trajectory)
-//!   (the figure), `plot::render::input::read_trajectory` (the rendering) and
-//!   [`crate::planning::check::JointFile`] (`check --trajectory`), all by the column names
+//!   [`fmt_real`](super::fmt_real)). Read back by the one trajectory reader
+//!   ([`read_trajectory_file`], below) for the figure ([`read_trajectory`](super::read_trajectory)),
+//!   the rendering (`plot::render::input::read_trajectory`) and the check ([`read_joint_file`],
+//!   `check --trajectory`, the campaign's run files, the seed's runs), all by the column names
 //!   ([`joint_columns`], [`MOTOR_COLUMN`], [`POSE_COLUMNS`]). Every reader also accepts the
 //!   earlier header, which named the joints `q0..q{n-1}` ([`joint_column`]).
 //! - JSON / YAML: [`JointTrajectoryMsg`], exactly ROS 2 `trajectory_msgs/msg/JointTrajectory`
@@ -15,11 +16,30 @@
 //!   accelerations, an empty effort), for the arm alone ([`Channels::Arm`], URDF joint names)
 //!   or the rod motor alone ([`Channels::Motor`]). No extra keys: what the trajectory was planned
 //!   for and its phases are in the sidecar `F.meta.json` ([`TrajectoryMeta`]).
+//!
+//! # The trajectory reader ([`read_trajectory_file`])
+//! One configuration per line, in any of three forms (blank lines and `#` comment lines are
+//! skipped; a UTF-8 byte-order mark is ignored):
+//! - **whitespace numbers**, exactly one per joint (the seed's `trajectories/*.txt`);
+//! - **CSV without header**, exactly one number per joint;
+//! - **CSV with a header** (a first line with a field that is not a number): the joints by the
+//!   robot's joint names (any order; a MoveIt export, `plan`'s CSV) or `q0..q{n-1}` (the earlier
+//!   header); `t` (or `time`, non-decreasing), `motor`, `s` (≥ 0), `kappa,tau,omega` (κ̂ ≥ 0),
+//!   `x,y,z`, `azimuth` and `phase` are read when present, other columns ignored. A column
+//!   named twice is refused.
+//!
+//! Without a robot (`joint_names` empty) a header is required and the joints are `q0, q1, …` or
+//! the columns before `motor` but `t`/`time`. Every row has as many fields as the header (or
+//! as joints); every value read is a finite number. At most
+//! [`MAX_TRAJECTORY_ROWS`](crate::limits::MAX_TRAJECTORY_ROWS) rows. Errors name the file, the
+//! 1-based line, the column and the text. Cost: one pass over the text, O(rows × columns).
 
 use super::csv_out;
 use crate::error::{Error, Result};
-use crate::math::Real;
-use crate::planning::trajectory::{RayOutcome, Trajectory, TrajectoryPoint};
+use crate::limits::MAX_TRAJECTORY_ROWS;
+use crate::math::{Real, Vec3};
+use crate::planning::check::JointFile;
+use crate::planning::trajectory::{Phase, RayOutcome, Trajectory, TrajectoryPoint};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -502,11 +522,346 @@ pub fn message_yaml(msg: &JointTrajectoryMsg, goal: bool) -> String {
     y
 }
 
+/// A trajectory file as read by [`read_trajectory_file`] (module docs): the joints of every row
+/// and the other columns the file has.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrajectoryTable {
+    /// The file.
+    pub path: PathBuf,
+    /// How it was read (`whitespace`, `csv`, `csv header: joint names`, `csv header: q0..`,
+    /// `csv header: columns before motor`).
+    pub format: String,
+    /// The name of every joint column (the header's, or the robot's without a header).
+    pub joint_names: Vec<String>,
+    /// Joint values, row-major (`rows × joint_names.len()`).
+    pub q: Vec<Real>,
+    /// 1-based line of every row.
+    pub lines: Vec<usize>,
+    /// `t` (or `time`) of every row (s), non-decreasing.
+    pub t: Option<Vec<Real>>,
+    /// `motor` of every row (rad).
+    pub motor: Option<Vec<Real>>,
+    /// `s` of every row.
+    pub s: Option<Vec<Real>>,
+    /// `kappa,tau,omega` of every row.
+    pub kto: Option<Vec<[Real; 3]>>,
+    /// `x,y,z` of every row (the rod end in the base frame).
+    pub end: Option<Vec<Vec3>>,
+    /// `azimuth` of every row.
+    pub azimuth: Option<Vec<Real>>,
+    /// `phase` of every row.
+    pub phase: Option<Vec<Phase>>,
+}
+
+impl TrajectoryTable {
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// The joints of row `i`.
+    pub fn row(&self, i: usize) -> &[Real] {
+        let n = self.joint_names.len();
+        &self.q[i * n..(i + 1) * n]
+    }
+
+    /// A [`Error::File`] naming this file.
+    pub fn file_error(&self, reason: String) -> Error {
+        Error::File {
+            path: self.path.clone(),
+            reason,
+        }
+    }
+}
+
+/// Read the trajectory file `path` for a robot whose joints are `joint_names` (`robot` names it
+/// in errors; `&[]`: no robot), module docs.
+pub fn read_trajectory_file(
+    path: &Path,
+    joint_names: &[String],
+    robot: &str,
+) -> Result<TrajectoryTable> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_trajectory_file(&text, path, joint_names, robot)
+}
+
+/// [`read_trajectory_file`] on text already read; `path` names it in errors.
+pub fn parse_trajectory_file(
+    text: &str,
+    path: &Path,
+    joint_names: &[String],
+    robot: &str,
+) -> Result<TrajectoryTable> {
+    let robot = if robot.is_empty() {
+        "the robot".to_string()
+    } else {
+        format!("robot {robot}")
+    };
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let bad = |line: usize, field: &str, reason: String| Error::BadLine {
+        path: path.to_path_buf(),
+        line,
+        field: field.to_string(),
+        reason,
+    };
+    let file_err = |reason: String| Error::File {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let mut content = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+        .peekable();
+    let Some(&(first_line, first)) = content.peek() else {
+        return Err(file_err("empty file: no joint rows".into()));
+    };
+    let comma = first.contains(',');
+    let unquote = |f: &str| -> String {
+        let f = f.trim();
+        match f.strip_prefix('"').and_then(|x| x.strip_suffix('"')) {
+            Some(inner) => inner.to_string(),
+            None => f.to_string(),
+        }
+    };
+    let split = |l: &str| -> Vec<String> {
+        if comma {
+            l.split(',').map(unquote).collect()
+        } else {
+            l.split_whitespace().map(str::to_string).collect()
+        }
+    };
+    let head = split(first);
+    let has_header = head.iter().any(|f| f.parse::<Real>().is_err());
+    let dof = joint_names.len();
+    // Joint columns, their names, the named columns, the field count and the format.
+    let (cols, names, header, n_fields, format) = if has_header {
+        content.next();
+        for (i, h) in head.iter().enumerate() {
+            if let Some(j) = head.iter().take(i).position(|g| g == h) {
+                return Err(bad(
+                    first_line,
+                    "header",
+                    format!(
+                        "column `{h}` appears twice (columns {} and {}): which one holds the \
+                         values is ambiguous",
+                        j + 1,
+                        i + 1
+                    ),
+                ));
+            }
+        }
+        let (cols, kind) = match joint_columns(&head, joint_names) {
+            Some((c, k)) if dof == 0 || c.len() == dof => (c, k),
+            Some((c, _)) => {
+                return Err(file_err(format!(
+                    "has {} joint columns (q0..q{}) but {robot} has {dof} joints ({}): the \
+                     trajectory is for another robot",
+                    c.len(),
+                    c.len().saturating_sub(1),
+                    joint_names.join(",")
+                )))
+            }
+            None if dof == 0 => {
+                return Err(file_err(format!(
+                    "no joint columns: neither q0, q1, … nor joint columns before \
+                     `{MOTOR_COLUMN}` (header: {})",
+                    head.join(",")
+                )))
+            }
+            None => {
+                return Err(bad(
+                    first_line,
+                    "header",
+                    format!(
+                        "`{first}` names neither the {dof} joints of {robot} ({}) nor \
+                         q0..q{}: the trajectory is for another robot",
+                        joint_names.join(","),
+                        dof.saturating_sub(1)
+                    ),
+                ))
+            }
+        };
+        let format = match kind {
+            JointHeader::Names => "csv header: joint names",
+            JointHeader::Indexed => "csv header: q0..",
+            JointHeader::BeforeMotor => "csv header: columns before motor",
+        };
+        let names: Vec<String> = cols.iter().map(|&c| head[c].clone()).collect();
+        (cols, names, head.clone(), head.len(), format)
+    } else if dof == 0 {
+        return Err(bad(
+            first_line,
+            "header",
+            "no header: without the robot the joint columns are found by name".into(),
+        ));
+    } else {
+        let format = if comma { "csv" } else { "whitespace" };
+        (
+            (0..dof).collect(),
+            joint_names.to_vec(),
+            Vec::new(),
+            dof,
+            format,
+        )
+    };
+    let find = |name: &str| header.iter().position(|h| h == name);
+    let t_col = find("t").or_else(|| find("time"));
+    let t_name = t_col.map_or("t", |c| header[c].as_str());
+    let motor_col = find(MOTOR_COLUMN);
+    let s_col = find("s");
+    let kto_cols = match (find("kappa"), find("tau"), find("omega")) {
+        (Some(a), Some(b), Some(c)) => Some([a, b, c]),
+        _ => None,
+    };
+    let end_cols = match (find("x"), find("y"), find("z")) {
+        (Some(a), Some(b), Some(c)) => Some([a, b, c]),
+        _ => None,
+    };
+    let az_col = find("azimuth");
+    let phase_col = find("phase");
+    let mut out = TrajectoryTable {
+        path: path.to_path_buf(),
+        format: format.to_string(),
+        joint_names: names,
+        q: Vec::new(),
+        lines: Vec::new(),
+        t: t_col.map(|_| Vec::new()),
+        motor: motor_col.map(|_| Vec::new()),
+        s: s_col.map(|_| Vec::new()),
+        kto: kto_cols.map(|_| Vec::new()),
+        end: end_cols.map(|_| Vec::new()),
+        azimuth: az_col.map(|_| Vec::new()),
+        phase: phase_col.map(|_| Vec::new()),
+    };
+    for (line, l) in content {
+        if out.lines.len() >= MAX_TRAJECTORY_ROWS {
+            return Err(bad(
+                line,
+                "rows",
+                format!("more than {MAX_TRAJECTORY_ROWS} rows: not a trajectory this tool reads"),
+            ));
+        }
+        let f = split(l);
+        if f.len() != n_fields {
+            return Err(bad(
+                line,
+                "columns",
+                format!(
+                    "{} fields, expected {n_fields} ({})",
+                    f.len(),
+                    if has_header {
+                        "as many as the header".to_string()
+                    } else {
+                        format!("one per joint: {}", joint_names.join(" "))
+                    }
+                ),
+            ));
+        }
+        let num = |col: usize, name: &str| -> Result<Real> {
+            let s = &f[col];
+            let v = s
+                .parse::<Real>()
+                .map_err(|_| bad(line, name, format!("`{s}` is not a number")))?;
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(bad(line, name, format!("`{s}` is not a finite value")))
+            }
+        };
+        for (j, &c) in cols.iter().enumerate() {
+            out.q.push(num(c, &out.joint_names[j])?);
+        }
+        if let (Some(c), Some(v)) = (t_col, out.t.as_mut()) {
+            let t = num(c, t_name)?;
+            if let Some(&prev) = v.last() {
+                if t < prev {
+                    return Err(bad(
+                        line,
+                        t_name,
+                        format!("time {t} is before the previous row's {prev}"),
+                    ));
+                }
+            }
+            v.push(t);
+        }
+        if let (Some(c), Some(v)) = (motor_col, out.motor.as_mut()) {
+            v.push(num(c, MOTOR_COLUMN)?);
+        }
+        if let (Some(c), Some(v)) = (s_col, out.s.as_mut()) {
+            let s = num(c, "s")?;
+            if s < 0.0 {
+                return Err(bad(line, "s", format!("`{s}` must be >= 0")));
+            }
+            v.push(s);
+        }
+        if let (Some([a, b, c]), Some(v)) = (kto_cols, out.kto.as_mut()) {
+            let k = [num(a, "kappa")?, num(b, "tau")?, num(c, "omega")?];
+            if k[0] < 0.0 {
+                return Err(bad(line, "kappa", format!("`{}` must be >= 0", k[0])));
+            }
+            v.push(k);
+        }
+        if let (Some([a, b, c]), Some(v)) = (end_cols, out.end.as_mut()) {
+            v.push(Vec3::new(num(a, "x")?, num(b, "y")?, num(c, "z")?));
+        }
+        if let (Some(c), Some(v)) = (az_col, out.azimuth.as_mut()) {
+            v.push(num(c, "azimuth")?);
+        }
+        if let (Some(c), Some(v)) = (phase_col, out.phase.as_mut()) {
+            let text = f[c].as_str();
+            v.push(Phase::parse(text).ok_or_else(|| {
+                bad(
+                    line,
+                    "phase",
+                    format!("`{text}`: expected load, reconfigure, hold or unload"),
+                )
+            })?);
+        }
+        out.lines.push(line);
+    }
+    if out.lines.is_empty() {
+        return Err(file_err(
+            "no data rows after the header: no joint rows to read".into(),
+        ));
+    }
+    Ok(out)
+}
+
+/// Read a joint trajectory for `helixreach check` (and the campaign's run files, the seed's
+/// runs) for a robot whose joints are `joint_names`: [`read_trajectory_file`] as a
+/// [`JointFile`].
+pub fn read_joint_file(path: &Path, joint_names: &[String]) -> Result<JointFile> {
+    read_trajectory_file(path, joint_names, "").map(joint_file)
+}
+
+/// [`read_joint_file`] on text already read; `path` names it in errors.
+pub fn parse_joint_file(text: &str, path: &Path, joint_names: &[String]) -> Result<JointFile> {
+    parse_trajectory_file(text, path, joint_names, "").map(joint_file)
+}
+
+/// The joints, motor, time and s of a table, as the check takes them.
+fn joint_file(t: TrajectoryTable) -> JointFile {
+    JointFile {
+        path: t.path,
+        dof: t.joint_names.len(),
+        q: t.q,
+        lines: t.lines,
+        motor: t.motor,
+        t: t.t,
+        s: t.s,
+        format: t.format,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::math::{Iso3, Quat, Vec3};
-    use crate::planning::check::JointFile;
     use crate::planning::trajectory::Phase;
 
     fn traj() -> Trajectory {
@@ -597,7 +952,7 @@ mod tests {
         let names = tr.joint_names.clone();
         #[cfg(feature = "plots")]
         let rendered = crate::plot::render::input::read_trajectory(path, &names, "r").unwrap();
-        let joints = JointFile::parse(text, path, &names).unwrap();
+        let joints = parse_joint_file(text, path, &names).unwrap();
         assert_eq!(joints.format, format);
         assert_eq!(rows.len(), if all { tr.points.len() } else { 0 });
         for (k, p) in tr.points.iter().enumerate() {

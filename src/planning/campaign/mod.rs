@@ -2,6 +2,10 @@
 //! a `layout`), put in an order that keeps robot time and clamp moves low, with the moves
 //! between runs planned and the whole split into sessions (`helixreach campaign`).
 //!
+//! This module is the campaign's domain (planning, ordering, moves, sessions); it imports no
+//! file format. Running a campaign into a folder is [`crate::experiment::campaign`]; its files
+//! are the records of `records::campaign`.
+//!
 //! # Contract
 //! - **Runs.** Each ray is planned as `helixreach plan` plans it ([`plan_run`]: the rig's
 //!   azimuths, or the layout's azimuth for the ray, the bifurcation type when the rig's margin
@@ -45,22 +49,20 @@
 //! O(dof) each; 173 runs take milliseconds. Not optimal: the bound ignores which moves need
 //! unclamping.
 //!
-//! # Layout input ([`read_layout`])
+//! # Layout input (`records::campaign::read_layout`)
 //! `placements.csv` (`placement`, `rig_file`: the placed rig's TOML beside it) and
 //! `assignment.csv` (per direction the placement that tests it, its azimuth, and the class);
 //! a direction no placement tests is listed with its class and the cause
 //! `no_placement_tests_it`, not planned.
 
 use crate::directions::Direction;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::math::Real;
 use crate::planning::ladder::BlockCause;
 use crate::planning::planner::{Planner, RayPlan};
 use crate::planning::rig::RollMode;
 use crate::planning::trajectory::{time_parametrize, Phase, TimingLimits, TrajectoryPoint};
-use std::path::{Path, PathBuf};
-
-mod run;
+use std::path::PathBuf;
 
 /// One bar of the campaign timeline (`timeline.png`, drawn with the `plots` feature): a run,
 /// or the move and handling before it.
@@ -75,9 +77,6 @@ pub struct TimelineBar {
     /// Placement (1-based) of a run; `None` for a move.
     pub placement: Option<usize>,
 }
-pub use run::{
-    run_campaign, CampaignInput, CampaignOptions, CampaignSummary, Ray, SessionSummary, Unplanned,
-};
 
 /// Runs tried as the first of a nearest-neighbour path (all runs when fewer).
 pub const NN_STARTS: usize = 64;
@@ -314,27 +313,6 @@ impl Transition {
             points: Vec::new(),
             cause: None,
         }
-    }
-
-    /// The move as a joint CSV `t,<joint names>,motor` (what `helixreach check` reads, timed).
-    pub fn to_csv(&self, joint_names: &[String]) -> String {
-        let mut s = String::from("t");
-        for name in joint_names {
-            s.push(',');
-            s.push_str(name);
-        }
-        s.push_str(",motor\n");
-        for (t, q, m) in &self.points {
-            s.push_str(&crate::records::fmt_real(*t));
-            for x in q {
-                s.push(',');
-                s.push_str(&crate::records::fmt_real(*x));
-            }
-            s.push(',');
-            s.push_str(&crate::records::fmt_real(*m));
-            s.push('\n');
-        }
-        s
     }
 }
 
@@ -573,150 +551,6 @@ pub struct LayoutInput {
     pub rig_files: Vec<PathBuf>,
     /// Every direction of `assignment.csv`, in file order.
     pub assigned: Vec<Assigned>,
-}
-
-/// Read `DIR/placements.csv` and `DIR/assignment.csv` (module docs). Errors name the file, the
-/// line, the field and the value: a rig file that does not exist, a placement number out of
-/// order, an assignment to a placement not listed, a bad number or direction.
-pub fn read_layout(dir: &Path) -> Result<LayoutInput> {
-    let pf = dir.join("placements.csv");
-    if !pf.is_file() {
-        return Err(Error::File {
-            path: pf,
-            reason: "does not exist: not a `helixreach layout` folder".into(),
-        });
-    }
-    let mut t = crate::io::CsvInput::open(&pf)?;
-    let (ip, ir) = (t.column("placement", "")?, t.column("rig_file", "")?);
-    let mut rig_files = Vec::new();
-    for (k, rec) in t.reader.records().enumerate() {
-        let line = k + 2;
-        let rec = rec.map_err(|e| crate::io::bad_line(&pf, line, "record", e.to_string()))?;
-        let line = crate::io::line_of(&rec, line);
-        let p = rec.get(ip).unwrap_or("");
-        if p.parse::<usize>().ok() != Some(rig_files.len() + 1) {
-            return Err(crate::io::bad_line(
-                &pf,
-                line,
-                "placement",
-                format!(
-                    "`{p}`: expected {} (placements numbered 1, 2, … in order)",
-                    rig_files.len() + 1
-                ),
-            ));
-        }
-        let name = rec.get(ir).unwrap_or("");
-        let path = dir.join(name);
-        if name.is_empty() || !path.is_file() {
-            return Err(crate::io::bad_line(
-                &pf,
-                line,
-                "rig_file",
-                format!("`{name}`: {} does not exist", path.display()),
-            ));
-        }
-        rig_files.push(path);
-    }
-    if rig_files.is_empty() {
-        return Err(t.file_error("no placements".into()));
-    }
-    let af = dir.join("assignment.csv");
-    let mut t = crate::io::CsvInput::open(&af)?;
-    let hint = "an assignment.csv of helixreach layout";
-    let cols = [
-        t.column("dir_kappa", hint)?,
-        t.column("dir_tau", hint)?,
-        t.column("dir_omega", hint)?,
-    ];
-    let (ip, ia, ic, is) = (
-        t.column("placement", hint)?,
-        t.column("azimuth", hint)?,
-        t.column("class", hint)?,
-        t.column("s_reached", hint)?,
-    );
-    let mut assigned = Vec::new();
-    for (k, rec) in t.reader.records().enumerate() {
-        let line = k + 2;
-        let rec = rec.map_err(|e| crate::io::bad_line(&af, line, "record", e.to_string()))?;
-        let line = crate::io::line_of(&rec, line);
-        let mut v = [0.0; 3];
-        for (x, (&c, name)) in
-            v.iter_mut()
-                .zip(cols.iter().zip(["dir_kappa", "dir_tau", "dir_omega"]))
-        {
-            *x = crate::io::parse_field(&af, line, &rec, c, name)?;
-        }
-        let dir = Direction::new(v[0], v[1], v[2])
-            .map_err(|e| crate::io::bad_line(&af, line, "direction", e.to_string()))?;
-        let opt_num = |c: usize, name: &str| -> Result<Option<Real>> {
-            match rec.get(c).unwrap_or("") {
-                "" => Ok(None),
-                _ => {
-                    let x = crate::io::parse_field(&af, line, &rec, c, name)?;
-                    if x.is_finite() {
-                        Ok(Some(x))
-                    } else {
-                        Err(crate::io::bad_line(
-                            &af,
-                            line,
-                            name,
-                            format!("`{x}` is not finite"),
-                        ))
-                    }
-                }
-            }
-        };
-        let placement = match rec.get(ip).unwrap_or("") {
-            "" => None,
-            p => match p.parse::<usize>() {
-                Ok(n) if (1..=rig_files.len()).contains(&n) => Some(n),
-                _ => {
-                    return Err(crate::io::bad_line(
-                        &af,
-                        line,
-                        "placement",
-                        format!(
-                            "`{p}`: not a placement of {} (1..={})",
-                            pf.display(),
-                            rig_files.len()
-                        ),
-                    ))
-                }
-            },
-        };
-        assigned.push(Assigned {
-            dir,
-            placement,
-            azimuth: opt_num(ia, "azimuth")?,
-            class: rec.get(ic).unwrap_or("").to_string(),
-            s_reached: opt_num(is, "s_reached")?,
-        });
-    }
-    if assigned.is_empty() {
-        return Err(t.file_error("no directions".into()));
-    }
-    Ok(LayoutInput {
-        rig_files,
-        assigned,
-    })
-}
-
-/// Joints as the space-separated text of `rays.csv`.
-pub fn joints_text(q: &[Real]) -> String {
-    q.iter()
-        .map(|x| crate::records::fmt_real(*x))
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-/// Joints from the space-separated text of `rays.csv` (`what` names the field in errors).
-pub fn parse_joints(text: &str, what: &str) -> Result<Vec<Real>> {
-    text.split_whitespace()
-        .map(|x| match x.parse::<Real>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(Error::invalid(what, x, "not a finite number")),
-        })
-        .collect()
 }
 
 #[cfg(test)]

@@ -7,12 +7,15 @@
 
 use super::args::{checkpoint_interval, DirectionArgs, RigOverrideArgs};
 use anyhow::{bail, Context};
+use helixreach::experiment::campaign::{
+    run_campaign, CampaignInput, CampaignOptions, Ray, Unplanned,
+};
 use helixreach::planning::campaign::{
-    read_layout, run_campaign, CampaignInput, CampaignOptions, Handling, Ray, Unplanned,
-    DEFAULT_CLAMP_MOVE_S, DEFAULT_SESSION_HOURS, DEFAULT_UNCLAMP_S,
+    Handling, DEFAULT_CLAMP_MOVE_S, DEFAULT_SESSION_HOURS, DEFAULT_UNCLAMP_S,
 };
 use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{Rig, RollMode};
+use helixreach::records::campaign::read_layout;
 use helixreach::sweep::reach::BoundaryTable;
 use std::path::PathBuf;
 

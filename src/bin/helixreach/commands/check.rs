@@ -183,7 +183,8 @@ fn finish(
     direction: Option<Direction>,
     azimuth: f64,
 ) -> anyhow::Result<()> {
-    let traj = checker.read(&args.trajectory)?;
+    let traj =
+        helixreach::records::trajectory::read_joint_file(&args.trajectory, &checker.joint_names())?;
     status!(
         "checking {} rows of {} ({}) on {}",
         traj.rows(),
@@ -209,7 +210,7 @@ fn finish(
     };
     let rep = checker.check(&traj, &opt)?;
     if let Some(out) = out {
-        out.write(rep.rows_csv()?.as_bytes())?;
+        out.write(helixreach::records::check::check_rows_csv(&rep)?.as_bytes())?;
     }
     let mut stdout = std::io::stdout().lock();
     writeln!(stdout, "{}", serde_json::to_string_pretty(&rep.to_json())?)?;

@@ -97,7 +97,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out = out.input(b);
     }
     out.check()?;
-    let set = compare::read_measured(&a.measured)?;
+    let set = helixreach::records::compare::read_measured(&a.measured)?;
     for n in &set.notes {
         eprintln!("note: {n}");
     }
@@ -159,7 +159,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             m.dir.omega
         );
     }
-    out.write(c.to_csv()?.as_bytes())?;
+    out.write(helixreach::records::compare::comparison_csv(&c)?.as_bytes())?;
     println!(
         "{}",
         serde_json::to_string_pretty(&c.summary_json(&set.rows))?

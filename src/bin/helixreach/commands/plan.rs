@@ -18,7 +18,7 @@ use helixreach::planning::campaign::plan_run;
 use helixreach::planning::planner::{Planner, ReachClass};
 use helixreach::planning::rig::{Rig, RollMode};
 use helixreach::records::trajectory::{
-    message_json, message_yaml, trajectory_meta_json, Channels, JointTrajectoryMsg,
+    message_json, message_yaml, trajectory_csv, trajectory_meta_json, Channels, JointTrajectoryMsg,
 };
 use helixreach::sweep::reach::s_star_of;
 use std::path::PathBuf;
@@ -167,7 +167,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let traj = planner.trajectory(&plan)?;
     let meta = trajectory_meta_json(&traj)?;
-    let mut files = vec![(out, traj.to_csv()?.into_bytes())];
+    let mut files = vec![(out, trajectory_csv(&traj)?.into_bytes())];
     let arm = JointTrajectoryMsg::new(&traj, Channels::Arm)?;
     for (o, k) in extra {
         let bytes = match k {

@@ -163,7 +163,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             let Some(m) = &args.input2 else {
                 bail!("comparison needs the measured CSV as --input2");
             };
-            let measured: Vec<_> = helixreach::compare::read_measured(m)?
+            let measured: Vec<_> = helixreach::records::compare::read_measured(m)?
                 .rows
                 .iter()
                 .map(|r| (r.dir, r.s_measured))

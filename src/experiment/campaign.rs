@@ -1,4 +1,5 @@
-//! The whole campaign ([`run_campaign`]): the ray sweep (`rays.csv`, resumable through
+//! The whole campaign into a folder ([`run_campaign`]; the domain is
+//! [`crate::planning::campaign`], the files the records of `records::campaign`): the ray sweep (`rays.csv`, resumable through
 //! [`crate::sweep::driver`], the run files written atomically as each ray is planned), then the
 //! order, the moves, the sessions and the outputs.
 //!
@@ -20,18 +21,19 @@
 //! replaces a finished campaign. Files in `runs/` and `transitions/` that the new run list does
 //! not name are removed once it is written.
 
-use super::{
-    joints_text, move_time, order_tour, parse_joints, plan_run, plan_transition, schedule,
-    Handling, Transition, TransitionKind,
-};
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::io::Output;
 use crate::math::Real;
+use crate::planning::campaign::{
+    move_time, order_tour, plan_run, plan_transition, schedule, Handling, TimelineBar, Transition,
+    TransitionKind,
+};
 use crate::planning::planner::{Planner, ReachClass};
 use crate::planning::rig::RollMode;
 use crate::records::campaign::{
-    ray_run_columns, CampaignRecord, RayRunRecord, RAY_RUN_KEY_COLUMNS,
+    joints_text, parse_joints, ray_run_columns, transition_csv, CampaignRecord, RayRunRecord,
+    RAY_RUN_KEY_COLUMNS,
 };
 use crate::records::csv_out::{fields, to_csv, CsvRecord};
 use crate::records::fmt_real;
@@ -144,7 +146,7 @@ pub struct CampaignSummary {
     /// Handling time per clamp move (s).
     pub clamp_move_s: Real,
     /// Σ of the move time bound over consecutive runs in input order and in the chosen order
-    /// (s; what the ordering minimizes, [`super::move_time`]).
+    /// (s; what the ordering minimizes, [`move_time`]).
     pub order_bound_input_s: Real,
     /// See `order_bound_input_s`.
     pub order_bound_chosen_s: Real,
@@ -217,7 +219,7 @@ fn plan_one(input: &CampaignInput, ray: &Ray, folder: &Path) -> Result<Vec<Strin
         };
         let rel = format!("{RUNS_DIR}/{}.csv", ray.name);
         let meta = trajectory_meta_json(&traj)?;
-        let csv = traj.to_csv()?;
+        let csv = crate::records::trajectory::trajectory_csv(&traj)?;
         let msg = message_json(&JointTrajectoryMsg::new(&traj, Channels::Arm)?)?;
         // Written again identically when a killed run is resumed: replacing is allowed.
         Output::new(folder.join(&rel))
@@ -462,7 +464,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
             let rel = format!("{TRANSITIONS_DIR}/{:03}.csv", k + 1);
             Output::new(folder.join(&rel))
                 .force(true)
-                .write(t.to_csv(&joint_names).as_bytes())?;
+                .write(transition_csv(t, &joint_names).as_bytes())?;
             rel
         } else {
             String::new()
@@ -470,7 +472,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
         let slot = slots[k];
         let pre = t.motion_s + t.handling_s;
         if pre > 0.0 {
-            bars.push(super::TimelineBar {
+            bars.push(TimelineBar {
                 session: slot.session,
                 start_s: slot.start_s - pre,
                 end_s: slot.start_s,
@@ -478,7 +480,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
             });
         }
         let dur = run.map_or(0.0, |r| r.duration);
-        bars.push(super::TimelineBar {
+        bars.push(TimelineBar {
             session: slot.session,
             start_s: slot.start_s,
             end_s: slot.start_s + dur,
