@@ -5,7 +5,7 @@
 //! move between runs ([`transition_csv`]); the layout folder a campaign reads ([`read_layout`]).
 //!
 //! Positions are metres in the robot base frame, times seconds, angles radians; numbers by
-//! [`fmt_real`](super::fmt_real); a value that does not apply is an empty field.
+//! [`fmt_real`]; a value that does not apply is an empty field.
 
 use super::csv_out::{self, CsvRecord};
 use super::fmt_real;

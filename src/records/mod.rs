@@ -54,7 +54,6 @@ use crate::error::{Error, Result};
 use crate::math::Real;
 use csv_out::CsvRecord;
 use std::path::{Path, PathBuf};
-use trajectory::{joint_columns, MOTOR_COLUMN};
 
 /// One direction of a boundary CSV: where the ray S̄ leaves the stable set.
 #[derive(Debug, Clone, PartialEq)]
@@ -524,48 +523,26 @@ pub fn read_speed_error(path: &Path) -> Result<Vec<SpeedErrorRow>> {
         .collect()
 }
 
-/// Read a trajectory CSV (`helixreach plan`) without knowing the robot: the joint columns are
-/// `q0, q1, …` (the earlier header) up to the first missing index, otherwise the columns before
-/// `motor` but `t` (the joint names of [`trajectory::trajectory_header`], in file order).
+/// Read a trajectory CSV (`helixreach plan`) without knowing the robot, by the one trajectory
+/// reader ([`trajectory::read_trajectory_file`]): the joint columns are `q0, q1, …` (the
+/// earlier header) up to the first missing index, otherwise the columns before `motor` but `t`
+/// (the joint names of [`trajectory::trajectory_header`], in file order); `s` required.
 pub fn read_trajectory(path: &Path) -> Result<Vec<TrajectoryRow>> {
-    let t = Table::read(path)?;
-    let is = t.col("s")?;
-    let Some((iq, _)) = joint_columns(&t.headers, &[]) else {
-        return Err(Error::File {
-            path: t.path.clone(),
-            reason: format!(
-                "no joint columns: neither q0, q1, … nor joint columns before `{MOTOR_COLUMN}` \
-                 (header: {})",
-                t.headers.join(",")
-            ),
-        });
-    };
-    let names: Vec<String> = iq.iter().map(|&c| t.headers[c].clone()).collect();
-    let it = t.has("t").then(|| t.col("t")).transpose()?;
-    let imo = t
-        .has(MOTOR_COLUMN)
-        .then(|| t.col(MOTOR_COLUMN))
-        .transpose()?;
-    (0..t.rows.len())
-        .map(|r| {
-            Ok(TrajectoryRow {
-                t: match it {
-                    Some(c) => t.real(r, c, "t", false)?,
-                    None => Real::NAN,
-                },
-                s: t.real(r, is, "s", false)?,
-                q: iq
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &c)| t.real(r, c, &names[j], false))
-                    .collect::<Result<_>>()?,
-                motor: match imo {
-                    Some(c) => t.real(r, c, MOTOR_COLUMN, false)?,
-                    None => Real::NAN,
-                },
-            })
+    let t = trajectory::read_trajectory_file(path, &[], "")?;
+    let s = t.s.as_ref().ok_or_else(|| {
+        t.file_error(format!(
+            "missing column `s` (joint columns: {})",
+            t.joint_names.join(",")
+        ))
+    })?;
+    Ok((0..t.rows())
+        .map(|i| TrajectoryRow {
+            t: t.t.as_ref().map_or(Real::NAN, |v| v[i]),
+            s: s[i],
+            q: t.row(i).to_vec(),
+            motor: t.motor.as_ref().map_or(Real::NAN, |v| v[i]),
         })
-        .collect()
+        .collect())
 }
 
 /// Read joint limits from a CSV with columns `joint,lower,upper` (rad), one row per joint in

@@ -31,7 +31,7 @@
 //! Without a robot (`joint_names` empty) a header is required and the joints are `q0, q1, …` or
 //! the columns before `motor` but `t`/`time`. Every row has as many fields as the header (or
 //! as joints); every value read is a finite number. At most
-//! [`MAX_TRAJECTORY_ROWS`](crate::limits::MAX_TRAJECTORY_ROWS) rows. Errors name the file, the
+//! [`MAX_TRAJECTORY_ROWS`] rows. Errors name the file, the
 //! 1-based line, the column and the text. Cost: one pass over the text, O(rows × columns).
 
 use super::csv_out;

@@ -5,7 +5,9 @@
 //! The robot's joints by their URDF names (any order), or `q0..q{n−1}` (the earlier header:
 //! exactly the robot's count), and `s`, `kappa`, `tau`, `omega` are required; `t`, `motor`, `x,y,z` (the rod end in the base frame), `azimuth` and `phase`
 //! (`load`, `reconfigure`, `hold`, `unload`) are used when present. Every value used must be
-//! finite; an error names the file, the line and the field.
+//! finite; an error names the file, the line and the field. At most
+//! [`MAX_TRAJECTORY_ROWS`](crate::limits::MAX_TRAJECTORY_ROWS) rows (the one trajectory reader,
+//! `records::trajectory`).
 //!
 //! # The helix of a row
 //! The rod is the helix (κ, τ, ω) of the row on the rig's clamp, turned by the azimuth α about
@@ -25,17 +27,15 @@
 //! spaced in time (in row order without `t`).
 
 use crate::error::{Error, Result};
-use crate::io::{bad_line, parse_field, CsvInput};
+use crate::io::bad_line;
 use crate::math::{Real, Vec3};
 use crate::plot::style::guard;
-use crate::records::trajectory::{joint_columns, MOTOR_COLUMN};
+use crate::records::trajectory::read_trajectory_file;
 use std::path::Path;
 
 /// Largest distance (m) between a row's rod end and the helix end on the rig, and between the
 /// arm's tool and the rod end.
 pub const END_TOLERANCE: Real = 1e-3;
-/// Most rows read from a trajectory file.
-pub const MAX_ROWS: usize = 1_000_000;
 /// Most frames in a strip.
 pub const MAX_STRIP_FRAMES: usize = 32;
 /// Most frames in a GIF.
@@ -66,140 +66,31 @@ pub struct Row {
     pub phase: Option<Phase>,
 }
 
-/// Read a trajectory CSV for a robot with `joint_names` (see the module docs).
+/// Read a trajectory CSV for a robot with `joint_names` (see the module docs): the one
+/// trajectory reader ([`crate::records::trajectory::read_trajectory_file`]) with `s` and
+/// `kappa,tau,omega` required.
 pub fn read_trajectory(path: &Path, joint_names: &[String], robot: &str) -> Result<Vec<Row>> {
-    let mut csv = CsvInput::open(path)?;
-    let dof = joint_names.len();
-    let header: Vec<String> = csv
-        .reader
-        .headers()
-        .map_or_else(|_| Vec::new(), |h| h.iter().map(str::to_string).collect());
-    let iq = match joint_columns(&header, joint_names) {
-        Some((iq, _)) if iq.len() == dof => iq,
-        Some((iq, _)) => {
-            return Err(csv.file_error(format!(
-                "has {} joint columns (q0..q{}) but robot {robot} has {dof} joints ({}): the \
-                 trajectory is for another robot",
-                iq.len(),
-                iq.len().saturating_sub(1),
-                joint_names.join(",")
-            )))
-        }
-        None => {
-            return Err(csv.file_error(format!(
-                "names neither the {dof} joints of robot {robot} ({}) nor q0..q{}: the \
-                 trajectory is for another robot (header: {})",
-                joint_names.join(","),
-                dof.saturating_sub(1),
-                header.join(",")
-            )))
-        }
+    let t = read_trajectory_file(path, joint_names, robot)?;
+    let missing = |name: &str| {
+        t.file_error(format!(
+            "missing column `{name}` (a trajectory CSV as `helixreach plan` writes)"
+        ))
     };
-    let qnames: Vec<&str> = iq.iter().map(|&c| header[c].as_str()).collect();
-    let hint = "a trajectory CSV as `helixreach plan` writes";
-    let is = csv.column("s", hint)?;
-    let ik = [
-        csv.column("kappa", hint)?,
-        csv.column("tau", hint)?,
-        csv.column("omega", hint)?,
-    ];
-    let opt = |n: &str| csv.column(n, "").ok();
-    let it = opt("t");
-    let im = opt(MOTOR_COLUMN);
-    let ia = opt("azimuth");
-    let iph = opt("phase");
-    let ixyz = match (opt("x"), opt("y"), opt("z")) {
-        (Some(x), Some(y), Some(z)) => Some([x, y, z]),
-        _ => None,
-    };
-    let mut rows = Vec::new();
-    let mut rec = csv::StringRecord::new();
-    loop {
-        let more = csv
-            .reader
-            .read_record(&mut rec)
-            .map_err(|e| csv.file_error(e.to_string()))?;
-        if !more {
-            break;
-        }
-        let line = rec.position().map_or(rows.len() + 2, |p| p.line() as usize);
-        if rows.len() >= MAX_ROWS {
-            return Err(csv.file_error(format!("more than {MAX_ROWS} rows")));
-        }
-        let num = |col: usize, name: &str| -> Result<Real> {
-            let v = parse_field(path, line, &rec, col, name)?;
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(bad_line(path, line, name, format!("`{v}` must be finite")))
-            }
-        };
-        let q = iq
-            .iter()
-            .enumerate()
-            .map(|(j, &c)| num(c, qnames[j]))
-            .collect::<Result<Vec<_>>>()?;
-        let t = match it {
-            Some(c) => num(c, "t")?,
-            None => rows.len() as Real,
-        };
-        let s = num(is, "s")?;
-        if s < 0.0 {
-            return Err(bad_line(path, line, "s", format!("`{s}` must be >= 0")));
-        }
-        let kto = [
-            num(ik[0], "kappa")?,
-            num(ik[1], "tau")?,
-            num(ik[2], "omega")?,
-        ];
-        if kto[0] < 0.0 {
-            return Err(bad_line(
-                path,
-                line,
-                "kappa",
-                format!("`{}` must be >= 0", kto[0]),
-            ));
-        }
-        let end = match ixyz {
-            Some([x, y, z]) => Some(Vec3::new(num(x, "x")?, num(y, "y")?, num(z, "z")?)),
-            None => None,
-        };
-        let phase = match iph {
-            Some(c) => {
-                let text = rec.get(c).unwrap_or("");
-                Some(Phase::parse(text).ok_or_else(|| {
-                    bad_line(
-                        path,
-                        line,
-                        "phase",
-                        format!("`{text}`: expected load, reconfigure, hold or unload"),
-                    )
-                })?)
-            }
-            None => None,
-        };
-        rows.push(Row {
-            line,
-            t,
-            q,
-            motor: match im {
-                Some(c) => num(c, MOTOR_COLUMN)?,
-                None => Real::NAN,
-            },
-            s,
-            kto,
-            end,
-            azimuth: match ia {
-                Some(c) => Some(num(c, "azimuth")?),
-                None => None,
-            },
-            phase,
-        });
-    }
-    if rows.is_empty() {
-        return Err(csv.file_error("no data rows after the header".into()));
-    }
-    Ok(rows)
+    let s = t.s.as_ref().ok_or_else(|| missing("s"))?;
+    let kto = t.kto.as_ref().ok_or_else(|| missing("kappa,tau,omega"))?;
+    Ok((0..t.rows())
+        .map(|i| Row {
+            line: t.lines[i],
+            t: t.t.as_ref().map_or(i as Real, |v| v[i]),
+            q: t.row(i).to_vec(),
+            motor: t.motor.as_ref().map_or(Real::NAN, |v| v[i]),
+            s: s[i],
+            kto: kto[i],
+            end: t.end.as_ref().map(|v| v[i]),
+            azimuth: t.azimuth.as_ref().map(|v| v[i]),
+            phase: t.phase.as_ref().map(|v| v[i]),
+        })
+        .collect())
 }
 
 /// Which rows to draw.
