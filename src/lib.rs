@@ -55,6 +55,7 @@ pub mod io;
 pub mod layout;
 pub mod limits;
 pub mod math;
+pub mod par;
 pub mod planning;
 #[cfg(feature = "plots")]
 pub mod plot;

@@ -35,7 +35,7 @@ use crate::records::campaign::{
     joints_text, parse_joints, ray_run_columns, transition_csv, CampaignRecord, RayRunRecord,
     RAY_RUN_KEY_COLUMNS,
 };
-use crate::records::csv_out::{fields, to_csv, CsvRecord};
+use crate::records::csv_out::{to_csv, CsvRecord};
 use crate::records::fmt_real;
 use crate::records::trajectory::{
     message_json, trajectory_meta_json, Channels, JointTrajectoryMsg,
@@ -192,7 +192,7 @@ fn settings(input: &CampaignInput, base: SweepOptions) -> SweepOptions {
 }
 
 /// Plan one ray, write its run files when testable, and give its `rays.csv` row.
-fn plan_one(input: &CampaignInput, ray: &Ray, folder: &Path) -> Result<Vec<String>> {
+fn plan_one(input: &CampaignInput, ray: &Ray, folder: &Path) -> Result<RayRunRecord> {
     let planner = &input.planners[ray.placement - 1];
     let s_star = s_star_of(&ray.dir, input.boundary.as_ref())?;
     let plan = plan_run(planner, &ray.dir, s_star, &ray.azimuths, input.roll)?;
@@ -234,7 +234,7 @@ fn plan_one(input: &CampaignInput, ray: &Ray, folder: &Path) -> Result<Vec<Strin
         rec.q_end = joints_text(&last.q);
         rec.file = rel;
     }
-    fields(&rec)
+    Ok(rec)
 }
 
 /// A `rays.csv` row read back.

@@ -104,11 +104,12 @@ pub struct Settings {
     pub dynamics_record_ds: Real,
 }
 
-/// Largest rod resolution (edges) of any stage.
-pub const MAX_EDGES: usize = 10_000;
+/// Largest rod resolution (edges) of any stage: [`crate::limits::MAX_N_EDGES`].
+pub const MAX_EDGES: usize = crate::limits::MAX_N_EDGES;
 
-/// Largest direction count of any stage (the paper's half-sphere is 58,352).
-pub const MAX_DIRECTIONS: usize = 1_000_000;
+/// Largest direction count of any stage: [`crate::limits::MAX_DIRECTIONS`] (the one set of
+/// limits; the paper's half-sphere is 58,352).
+pub const MAX_DIRECTIONS: usize = crate::limits::MAX_DIRECTIONS;
 
 impl Settings {
     /// The small, fast run (about a minute): fewer directions, coarser rods.
@@ -391,14 +392,7 @@ pub fn run(settings: &Settings, opts: &RunOptions) -> Result<StudyReport> {
 /// [`run`] with a given log clock (the demo starts it before parsing).
 pub fn run_with_log(settings: &Settings, opts: &RunOptions, log: &Log) -> Result<StudyReport> {
     settings.validate()?;
-    if settings.threads == rayon::current_num_threads() {
-        return run_stages(settings, opts, log);
-    }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(settings.threads)
-        .build()
-        .map_err(|e| Error::invalid("threads", settings.threads, e.to_string()))?
-        .install(|| run_stages(settings, opts, log))
+    crate::par::Par::threads(settings.threads)?.install(|| run_stages(settings, opts, log))?
 }
 
 /// The stages of [`run_with_log`], on the calling pool.

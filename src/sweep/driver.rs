@@ -3,8 +3,9 @@
 //! `bifurcation`, `layout`, …).
 //!
 //! The caller gives the items, a `key` function (the leading CSV fields that identify an item,
-//! e.g. `dir_kappa,dir_tau,dir_omega`), a `compute` closure returning the full row of an item,
-//! and [`SweepOptions`]: output path, header, the **settings** that produce the rows (see
+//! e.g. `dir_kappa,dir_tau,dir_omega`), a `compute` closure returning the item's record (any
+//! `Serialize` row: a record of [`crate::records`] such as `ReachRecord`, or the fields as a
+//! `Vec<String>`; its fields in header order), and [`SweepOptions`]: output path, header, the **settings** that produce the rows (see
 //! [`SweepOptions::setting`]), resume/force, shard, checkpoint interval, progress.
 //!
 //! # Guarantees (the data-safety rules)
@@ -33,7 +34,8 @@
 //!   claiming at the deadline, so a batch is a prefix of the remaining items whatever they cost —
 //!   and the first checkpoint comes within about 1.25 × the interval (plus one item's time), also
 //!   when cheap items are followed by costly ones.
-//! - **Parallel at the outermost level only** (rayon workers over the items of a batch) and
+//! - **Parallel at the outermost level only** (rayon workers over the items of a batch, as many
+//!   as [`SweepOptions::par`] gives: [`crate::par::Par`], applied to every batch) and
 //!   **deterministic**: rows are in input order and each row is a pure function of its item, so
 //!   the output is identical for any thread count.
 //! - **Standard output and devices**: `OUT = -` streams the header and rows (plain CSV, no
@@ -76,6 +78,7 @@
 use super::record::{csv_bytes, SettingsRecord, SweepFile};
 use crate::error::{Error, Result};
 use crate::io::{is_special, is_stdout, OutputLock};
+use crate::par::Par;
 use crate::records::columns::Column;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -172,6 +175,8 @@ pub struct SweepOptions {
     /// Each column's unit and rule, by default from [`crate::records::columns::COLUMNS`]; a
     /// column without one is refused before the run ([`SweepOptions::column`] gives one).
     pub columns: Vec<Column>,
+    /// The parallelism of the computation (default [`Par::all`]: the pool as found).
+    pub par: Par,
 }
 
 impl SweepOptions {
@@ -191,7 +196,14 @@ impl SweepOptions {
             progress: false,
             batch: 0,
             columns: crate::records::columns::columns_of(header),
+            par: Par::all(),
         }
+    }
+
+    /// Set the parallelism.
+    pub fn par(mut self, par: Par) -> Self {
+        self.par = par;
+        self
     }
 
     /// Give the column of `c.name` its unit and rule (for a column not in
@@ -447,16 +459,19 @@ fn compute_prefix<R: Send>(
     done.into_iter().map(|(_, r)| r).collect()
 }
 
-/// Run `compute` over `items` (see the module docs), writing `opts.out`.
+/// Run `compute` over `items` (see the module docs), writing `opts.out`, on `opts.par`.
 ///
-/// `key(item)` must equal the first `opts.key_columns` fields of `compute(item)`; a mismatch,
-/// a row of the wrong length or a failing item is an error (after a checkpoint of the rows
-/// finished so far), naming the item's key.
-pub fn run<T, K, F>(items: &[T], key: K, compute: F, opts: &SweepOptions) -> Result<SweepSummary>
+/// `compute(item)` gives the item's record `R` (its fields, by
+/// [`csv_out::fields`](crate::records::csv_out::fields), are the CSV row). `key(item)` must
+/// equal the first `opts.key_columns` fields of that row; a mismatch, a row of the wrong length
+/// or a failing item is an error (after a checkpoint of the rows finished so far), naming the
+/// item's key.
+pub fn run<T, R, K, F>(items: &[T], key: K, compute: F, opts: &SweepOptions) -> Result<SweepSummary>
 where
     T: Sync,
+    R: serde::Serialize,
     K: Fn(&T) -> Row,
-    F: Fn(&T) -> Result<Row> + Sync,
+    F: Fn(&T) -> Result<R> + Sync,
 {
     let ncols = opts.header.len();
     if opts.key_columns == 0 || opts.key_columns > ncols {
@@ -545,7 +560,7 @@ where
 
     let todo: Vec<usize> = (0..items.len()).filter(|&i| rows[i].is_none()).collect();
     let mut progress = Progress::new(opts.progress, todo.len(), &opts.sweep);
-    let threads = rayon::current_num_threads().max(1);
+    let threads = opts.par.count();
     let target =
         (opts.checkpoint_interval / 4).clamp(Duration::from_millis(20), Duration::from_secs(2));
     let partial = partial_path(&opts.out);
@@ -564,11 +579,14 @@ where
         } else {
             (&todo[next..], Some(Instant::now() + target))
         };
-        let results = compute_prefix(chunk, deadline, threads, |i| {
-            let r = compute(&items[i]);
-            progress.bar.inc(1);
-            r
-        });
+        let bar = &progress.bar;
+        let results = opts.par.install(|| {
+            compute_prefix(chunk, deadline, threads, |i| {
+                let r = compute(&items[i]).and_then(|r| crate::records::csv_out::fields(&r));
+                bar.inc(1);
+                r
+            })
+        })?;
         let chunk = &chunk[..results.len()];
         next += chunk.len();
         let mut failure = None;

@@ -26,7 +26,7 @@ use helixreach::boundary::der::DerBoundaryParams;
 use helixreach::directions::Direction;
 use helixreach::math::Real;
 use helixreach::records::bifurcation::BifurcationRecord;
-use helixreach::records::csv_out::{self, CsvRecord};
+use helixreach::records::csv_out::CsvRecord;
 use helixreach::rod::dynamics::presets::Preset;
 use helixreach::sweep::driver::{self, Shard, SweepOptions};
 use std::path::PathBuf;
@@ -85,9 +85,9 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-/// One CSV row ([`BifurcationRecord`]).
-pub fn row(d: &Direction, b: &Bifurcation, resolution: &str) -> helixreach::Result<Vec<String>> {
-    csv_out::fields(&BifurcationRecord::new(d, b, resolution))
+/// The CSV record of one direction (what the sweep driver writes).
+fn record(d: &Direction, b: &Bifurcation, resolution: &str) -> BifurcationRecord {
+    BifurcationRecord::new(d, b, resolution)
 }
 
 /// Run `helixreach bifurcation`.
@@ -125,9 +125,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         None => format!("n={}", a.n_edges),
     };
     let max_n = a.max_n_edges;
-    let one = |d: &Direction| -> helixreach::Result<Vec<String>> {
+    let one = |d: &Direction| -> helixreach::Result<BifurcationRecord> {
         let Some(e) = a.rel_tol else {
-            return row(d, &classify(d, &p)?, &resolution);
+            return Ok(record(d, &classify(d, &p)?, &resolution));
         };
         match helixreach::boundary::der::critical_s_to_rel_tol(d, &p.der, e, max_n) {
             Ok(ad) => {
@@ -139,16 +139,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     ..p
                 };
                 let label = format!("n={} rel_err={:.2e}", ad.n_edges, ad.richardson_rel);
-                row(d, &classify(d, &at)?, &label)
+                Ok(record(d, &classify(d, &at)?, &label))
             }
-            Err(err) => row(
+            Err(err) => Ok(record(
                 d,
                 &helixreach::bifurcation::degenerate(
                     format!("no DER s* to rel_tol {e:e}: {err}"),
                     Real::NAN,
                 ),
                 &resolution,
-            ),
+            )),
         }
     };
     let mut opts = SweepOptions::new(&a.out, BifurcationRecord::HEADER, 3)

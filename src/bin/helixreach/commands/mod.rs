@@ -110,14 +110,9 @@ pub fn with_threads<T: Send>(
     threads: Option<usize>,
     go: impl FnOnce() -> anyhow::Result<T> + Send,
 ) -> anyhow::Result<T> {
-    let Some(n) = threads else {
-        return go();
-    };
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(n)
-        .build()
-        .map_err(|e| anyhow::anyhow!("--threads {n}: cannot start the worker threads: {e}"))?
-        .install(go)
+    let par = helixreach::par::Par::from_option(threads)?;
+    par.install(go)
+        .map_err(|e| anyhow::anyhow!("--threads: {e}"))?
 }
 
 /// Gravity for a planning command (`reach`, `plan`, `layout`, `campaign`) on `rig` (named
