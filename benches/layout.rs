@@ -40,8 +40,16 @@ fn thread_cpu_s() -> f64 {
 fn sample(rig: &Rig, opts: &LayoutOptions, n_dirs: usize, picks: &[usize]) {
     let cands = grid(&opts.region, opts.spacing, &opts.tilts_deg, opts.headings).expect("grid");
     let dirs = fibonacci(n_dirs, true).expect("directions");
-    let sweep =
-        Sweep::new(rig, &cands, &dirs, None, rig.roll, rig.azimuths.clone()).expect("sweep");
+    let sweep = Sweep::new(
+        helixreach::par::Par::all(),
+        rig,
+        &cands,
+        &dirs,
+        None,
+        rig.roll,
+        rig.azimuths.clone(),
+    )
+    .expect("sweep");
     // Placement kinds of the whole grid (start rungs, once each), timed.
     let mut kinds: BTreeMap<String, (usize, f64)> = BTreeMap::new();
     for c in 0..cands.len() {

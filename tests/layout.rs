@@ -321,7 +321,16 @@ fn placement_kind_agrees_with_the_planner_and_the_rows() {
     // Far away; a corner of the seed grid whose straight rod has no valid configuration
     // (seen in full layout runs); the rig's own clamp.
     let cands = vec![at(3.0, 0.0, 0.0), at(0.9, -0.35, -0.145), at(o.x, o.y, o.z)];
-    let sweep = Sweep::new(&rig, &cands, &dirs, None, rig.roll, rig.azimuths.clone()).unwrap();
+    let sweep = Sweep::new(
+        helixreach::par::Par::all(),
+        &rig,
+        &cands,
+        &dirs,
+        None,
+        rig.roll,
+        rig.azimuths.clone(),
+    )
+    .unwrap();
     let kinds: Vec<PlacementKind> = (0..3).map(|c| sweep.placement_kind(c).unwrap()).collect();
     assert_eq!(
         kinds,

@@ -257,7 +257,16 @@ fn gif_decodes_to_the_stated_frames_and_size() {
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("a.gif");
-    render_gif(&sc, &snaps, &opts, 120, &out, false).unwrap();
+    render_gif(
+        helixreach::par::Par::all(),
+        &sc,
+        &snaps,
+        &opts,
+        120,
+        &out,
+        false,
+    )
+    .unwrap();
     let (w, h) = Layout::new(&snaps, &opts, Arrangement::Row).unwrap().size();
     let mut dec = gif::DecodeOptions::new();
     dec.set_color_output(gif::ColorOutput::RGBA);
@@ -291,7 +300,16 @@ fn gif_decodes_to_the_stated_frames_and_size() {
     }
     assert_eq!(frames, n);
     assert!(differ, "the arm moves: frames must differ");
-    assert!(render_gif(&sc, &[], &opts, 100, &out, false).is_err());
+    assert!(render_gif(
+        helixreach::par::Par::all(),
+        &sc,
+        &[],
+        &opts,
+        100,
+        &out,
+        false
+    )
+    .is_err());
 }
 
 fn plan_csv(rig: &Rig, azimuth: f64) -> String {

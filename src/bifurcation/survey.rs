@@ -17,7 +17,7 @@ use super::{classify, Bifurcation, BifurcationParams, BifurcationType};
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::Real;
-use rayon::prelude::*;
+use crate::par::Par;
 
 /// The seed's labelled directions (see the module docs), as CSV.
 pub const SEED_LABELS_CSV: &str = include_str!("seed_labels.csv");
@@ -79,9 +79,10 @@ pub fn seed_labels() -> Result<Vec<SeedLabel>> {
     Ok(out)
 }
 
-/// [`classify`] every direction of `dirs` (parallel, results in input order). Fails only on
-/// invalid parameters or directions: an undecided ray is a `degenerate` result with its reason.
-pub fn survey(dirs: &[Direction], p: &BifurcationParams) -> Result<Vec<Bifurcation>> {
+/// [`classify`] every direction of `dirs` (in parallel on `par`, results in input order).
+/// Fails only on invalid parameters or directions: an undecided ray is a `degenerate` result
+/// with its reason.
+pub fn survey(par: Par, dirs: &[Direction], p: &BifurcationParams) -> Result<Vec<Bifurcation>> {
     p.validate()?;
-    dirs.par_iter().map(|d| classify(d, p)).collect()
+    par.map(dirs, |d| classify(d, p))?.into_iter().collect()
 }

@@ -6,9 +6,9 @@ use crate::boundary::continuum;
 use crate::boundary::der::{self, DerBoundaryParams};
 use crate::directions::{fibonacci, Direction};
 use crate::error::Result;
+use crate::par::Par;
 use crate::records::boundary::{BoundaryRecord, DerCheckRecord};
 use crate::records::{csv_out, BoundaryRow, SpeedErrorRow};
-use rayon::prelude::*;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -72,16 +72,14 @@ pub struct ContinuumSurvey {
 const OMEGA_AXIS_KAPPA: f64 = 1e-6;
 
 /// (s*, est_error, seconds) per direction; NaN s* when the test failed.
-fn solve(dirs: &[Direction], tol: f64) -> Vec<(f64, f64, f64)> {
-    dirs.par_iter()
-        .map(|d| {
-            let t = Instant::now();
-            match continuum::critical_s(d, tol) {
-                Ok(c) => (c.s_star, c.est_error, t.elapsed().as_secs_f64()),
-                Err(_) => (f64::NAN, f64::NAN, t.elapsed().as_secs_f64()),
-            }
-        })
-        .collect()
+fn solve(par: Par, dirs: &[Direction], tol: f64) -> Result<Vec<(f64, f64, f64)>> {
+    par.map(dirs, |d| {
+        let t = Instant::now();
+        match continuum::critical_s(d, tol) {
+            Ok(c) => (c.s_star, c.est_error, t.elapsed().as_secs_f64()),
+            Err(_) => (f64::NAN, f64::NAN, t.elapsed().as_secs_f64()),
+        }
+    })
 }
 
 /// The boundary CSV of `rows` with their error estimates (the record layer's columns and row).
@@ -102,6 +100,7 @@ pub fn continuum_survey(
     out: &std::path::Path,
     log: &Log,
 ) -> Result<ContinuumSurvey> {
+    let par = st.par()?;
     let resolution = format!("tol={:e}", st.continuum_tol_rel);
     let to_rows = |dirs: &[Direction], res: &[(f64, f64, f64)]| -> (Vec<BoundaryRow>, Vec<f64>) {
         dirs.iter()
@@ -122,7 +121,7 @@ pub fn continuum_survey(
     };
     let half = fibonacci(st.continuum_directions, false)?;
     let t = Instant::now();
-    let res = solve(&half, st.continuum_tol_rel);
+    let res = solve(par, &half, st.continuum_tol_rel)?;
     let wall = t.elapsed().as_secs_f64();
     let failed = res.iter().filter(|r| r.0.is_nan()).count();
     let (rows, est) = to_rows(&half, &res);
@@ -132,7 +131,7 @@ pub fn continuum_survey(
         format!("{} directions in {wall:.2} s ({failed} failed)", half.len()),
     );
     let fan_dirs = omega0_fan(st.fan_directions);
-    let fres = solve(&fan_dirs, st.continuum_tol_rel);
+    let fres = solve(par, &fan_dirs, st.continuum_tol_rel)?;
     let (fan, fest) = to_rows(&fan_dirs, &fres);
     write(out, "boundary_omega0.csv", &boundary_csv(&fan, &fest)?)?;
 
@@ -148,11 +147,11 @@ pub fn continuum_survey(
     // Tolerance sweep on a sample, against a tight reference.
     let stride = (half.len() / st.speed_sample).max(1);
     let sample: Vec<Direction> = half.iter().step_by(stride).copied().collect();
-    let reference = solve(&sample, st.continuum_tol_reference);
+    let reference = solve(par, &sample, st.continuum_tol_reference)?;
     let mut tolerance_sweep = Vec::new();
     let mut speed_rows = Vec::new();
     for &tol in &st.continuum_tol_sweep {
-        let r = solve(&sample, tol);
+        let r = solve(par, &sample, tol)?;
         let rel: Vec<f64> = r
             .iter()
             .zip(&reference)
@@ -278,16 +277,13 @@ pub fn der_check(
             ..Default::default()
         };
         let t = Instant::now();
-        let res: Vec<(f64, f64)> = sample
-            .par_iter()
-            .map(|r| {
-                let t = Instant::now();
-                let s = der::critical_s(&r.dir, &p)
-                    .map(|c| c.s_star)
-                    .unwrap_or(f64::NAN);
-                (s, t.elapsed().as_secs_f64())
-            })
-            .collect();
+        let res: Vec<(f64, f64)> = st.par()?.map(&sample, |r| {
+            let t = Instant::now();
+            let s = der::critical_s(&r.dir, &p)
+                .map(|c| c.s_star)
+                .unwrap_or(f64::NAN);
+            (s, t.elapsed().as_secs_f64())
+        })?;
         let wall = t.elapsed().as_secs_f64();
         let mut rel = Vec::new();
         let mut fails = 0;

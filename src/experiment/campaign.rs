@@ -25,6 +25,7 @@ use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::io::Output;
 use crate::math::Real;
+use crate::par::Par;
 use crate::planning::campaign::{
     move_time, order_tour, plan_run, plan_transition, schedule, Handling, TimelineBar, Transition,
     TransitionKind,
@@ -42,7 +43,6 @@ use crate::records::trajectory::{
 };
 use crate::sweep::driver::{self, SweepOptions};
 use crate::sweep::reach::{s_star_of, BoundaryTable, ReachOptions};
-use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// A ray to plan.
@@ -105,6 +105,8 @@ pub struct CampaignOptions {
     pub session_s: Real,
     /// Handling times.
     pub handling: Handling,
+    /// The parallelism of the ray sweep and of the moves.
+    pub par: Par,
 }
 
 /// One session of [`CampaignSummary`].
@@ -356,6 +358,7 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
     sweep.force = opts.force;
     sweep.checkpoint_interval = opts.checkpoint_interval;
     sweep.progress = opts.progress;
+    sweep.par = opts.par;
     let sweep = settings(input, sweep);
     let done = driver::run(
         &input.rays,
@@ -403,9 +406,9 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
     }
 
     // The moves, in parallel over the runs (each depends on its predecessor's end only).
-    let transitions: Vec<Transition> = (0..order.len())
-        .into_par_iter()
-        .map(|k| {
+    let transitions: Vec<Transition> = opts
+        .par
+        .map_range(order.len(), |k| {
             let cur = &planned[order[k]];
             let to = cur.run.as_ref().map(|r| (&r.q_start[..], r.motor));
             if k == 0 {
@@ -429,7 +432,8 @@ pub fn run_campaign(input: &CampaignInput, opts: &CampaignOptions) -> Result<Cam
                 prev.placement != cur.placement,
                 &opts.handling,
             )
-        })
+        })?
+        .into_iter()
         .collect::<Result<_>>()?;
 
     let blocks: Vec<(Real, Real)> = order

@@ -8,7 +8,6 @@ use crate::error::{Error, Result};
 use crate::math::tol;
 use crate::records::{Series, SeriesRow, SpeedErrorRow};
 use crate::rod::dynamics::{simulate_ray, SimParams, Simulation};
-use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -74,14 +73,11 @@ pub fn dynamics_rays(st: &Settings, out: &Path, log: &Log) -> Result<DynamicsRay
         ..Default::default()
     };
     let t = Instant::now();
-    let sims: Vec<Result<(Simulation, f64)>> = dirs
-        .par_iter()
-        .map(|(_, d)| {
-            let t = Instant::now();
-            let sim = simulate_ray(d, &params, &mut |_| {})?;
-            Ok((sim, t.elapsed().as_secs_f64()))
-        })
-        .collect();
+    let sims: Vec<Result<(Simulation, f64)>> = st.par()?.map(&dirs, |(_, d)| {
+        let t = Instant::now();
+        let sim = simulate_ray(d, &params, &mut |_| {})?;
+        Ok((sim, t.elapsed().as_secs_f64()))
+    })?;
     let wall = t.elapsed().as_secs_f64();
     let mut rays = Vec::new();
     let mut series = Vec::new();

@@ -27,7 +27,13 @@ type DrawFigure<'a> = dyn FnMut(&str, &dyn Fn(&Path) -> Result<()>) -> Result<()
 
 /// Classify the quarter-sphere lattice of the demo's mode, write `bifurcation.csv`, and draw
 /// the map with the seed's labels (see the module docs).
-fn bifurcation_map(quick: bool, out: &Path, figure: &mut DrawFigure<'_>, log: &Log) -> Result<()> {
+fn bifurcation_map(
+    par: crate::par::Par,
+    quick: bool,
+    out: &Path,
+    figure: &mut DrawFigure<'_>,
+    log: &Log,
+) -> Result<()> {
     use crate::bifurcation::{survey, BifurcationParams};
     let (n_dirs, n_edges, with_return) = if quick {
         BIFURCATION_QUICK
@@ -39,7 +45,7 @@ fn bifurcation_map(quick: bool, out: &Path, figure: &mut DrawFigure<'_>, log: &L
     p.der.n_edges = n_edges;
     p.statics_return = with_return;
     let t = std::time::Instant::now();
-    let results = survey::survey(&dirs, &p)?;
+    let results = survey::survey(par, &dirs, &p)?;
     let resolution = format!("n={n_edges}");
     let records: Vec<crate::records::bifurcation::BifurcationRecord> = dirs
         .iter()
@@ -136,7 +142,13 @@ pub fn figures(report: &StudyReport, out: &Path, log: &Log) -> Result<Figures> {
         }
         log.say("figures", "render_strip drawn");
     }
-    bifurcation_map(report.settings.mode == "quick", out, &mut figure, log)?;
+    bifurcation_map(
+        report.settings.par()?,
+        report.settings.mode == "quick",
+        out,
+        &mut figure,
+        log,
+    )?;
     let rows = report.speed_rows();
     if !rows.is_empty() {
         write(

@@ -170,6 +170,11 @@ impl Settings {
         }
     }
 
+    /// The parallelism of every parallel stage: [`Settings::threads`] workers.
+    pub fn par(&self) -> Result<crate::par::Par> {
+        crate::par::Par::threads(self.threads)
+    }
+
     /// Check every size against its bound (clear errors naming the field and value).
     pub fn validate(&self) -> Result<()> {
         crate::limits::check_range("threads", self.threads, 1, crate::limits::MAX_THREADS)?;
@@ -392,7 +397,9 @@ pub fn run(settings: &Settings, opts: &RunOptions) -> Result<StudyReport> {
 /// [`run`] with a given log clock (the demo starts it before parsing).
 pub fn run_with_log(settings: &Settings, opts: &RunOptions, log: &Log) -> Result<StudyReport> {
     settings.validate()?;
-    crate::par::Par::threads(settings.threads)?.install(|| run_stages(settings, opts, log))?
+    settings
+        .par()?
+        .install(|| run_stages(settings, opts, log))?
 }
 
 /// The stages of [`run_with_log`], on the calling pool.

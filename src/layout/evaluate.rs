@@ -35,7 +35,6 @@ use crate::records::layout::{RayRecord, RAY_KEY_COLUMNS};
 use crate::records::{dir_key, fmt_real};
 use crate::sweep::driver::{self, Row, SweepOptions, SweepSummary};
 use crate::sweep::reach::{s_star_of, BoundaryTable};
-use rayon::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -92,9 +91,10 @@ pub type Item = (usize, usize);
 
 impl<'a> Sweep<'a> {
     /// Prepare a sweep: s* of every direction (from `table`, else the continuum test, in
-    /// parallel), the reach bound of the rig's robot. The end-pose check is on
+    /// parallel on `par`), the reach bound of the rig's robot. The end-pose check is on
     /// ([`Sweep::end_pose_check`]).
     pub fn new(
+        par: crate::par::Par,
         rig: &'a Rig,
         candidates: &'a [Candidate],
         dirs: &'a [Direction],
@@ -111,9 +111,9 @@ impl<'a> Sweep<'a> {
         }
         let model = rig.robot.load_model(&rig.source)?;
         let bound = ReachBound::of(&model, rig);
-        let s_star = dirs
-            .par_iter()
-            .map(|d| s_star_of(d, table))
+        let s_star = par
+            .map(dirs, |d| s_star_of(d, table))?
+            .into_iter()
             .collect::<Result<Vec<Real>>>()?;
         Ok(Sweep {
             rig,

@@ -122,6 +122,8 @@ pub struct RunControl {
     pub shard: Option<Shard>,
     /// Progress and the summary line on stderr.
     pub progress: bool,
+    /// The parallelism of the sweep (s* of the directions, the rays).
+    pub par: crate::par::Par,
 }
 
 /// Coverage of the best k placements.
@@ -359,7 +361,15 @@ pub fn run(
     }
 
     let rays_path = out_dir.join("rays.csv");
-    let mut sweep = Sweep::new(&rig, &cands, dirs, table, roll, azimuths.clone())?;
+    let mut sweep = Sweep::new(
+        control.par,
+        &rig,
+        &cands,
+        dirs,
+        table,
+        roll,
+        azimuths.clone(),
+    )?;
     sweep.end_pose_check = opts.end_pose_check;
     let mut so = SweepOptions::new(
         &rays_path,
@@ -370,6 +380,7 @@ pub fn run(
     so.force = control.force;
     so.shard = control.shard;
     so.progress = control.progress;
+    so.par = control.par;
     let so = settings(so, &rig, dirs, &cands, roll, &azimuths, table)
         .setting(
             "robot_files",

@@ -38,7 +38,7 @@
 //! ([`RigInit::rig`]).
 //!
 //! Cost: 12 planner constructions (the straight rod's IK set) and up to 96 pointwise tests:
-//! seconds (candidates run in parallel with rayon).
+//! seconds (candidates run in parallel on [`RigInitOptions::par`]).
 
 use crate::directions::{fibonacci, Direction};
 use crate::error::{Error, Result};
@@ -47,7 +47,6 @@ use crate::math::Real;
 use crate::planning::planner::Planner;
 use crate::planning::rig::{Rig, RollMode};
 use crate::robot::{LoadOptions, RobotModel};
-use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Quarter-sphere directions whose end pose scores a clamp candidate.
@@ -89,6 +88,8 @@ pub struct RigInitOptions {
     pub padding: Real,
     /// Rod length (m); `None`: [`SEED_ROD_LENGTH`], or 0.4·R for a small arm (module docs).
     pub rod_length: Option<Real>,
+    /// The parallelism of the candidates' scoring.
+    pub par: crate::par::Par,
 }
 
 /// One scored clamp candidate.
@@ -353,42 +354,39 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
             (o[0] - reach.centre.x) / reach_sampled
         )
     };
-    let scored: Vec<Result<Candidate>> = origins
-        .par_iter()
-        .map(|o| {
-            let rig = probe(rod_length, *o, &note(o))?;
-            let margin = rig.planner.margin;
-            let planner = match Planner::new(rig) {
-                Ok(p) => p,
-                Err(e) => {
-                    return Ok(Candidate {
-                        origin: *o,
-                        starts: 0,
-                        score: 0,
-                        refused: Some(e.to_string()),
-                    })
-                }
-            };
-            let starts = planner.start_configurations(RollMode::Fixed).len();
-            let mut score = 0;
-            for (d, s) in dirs.iter().zip(&s_ends) {
-                let s_end = if s.is_finite() {
-                    s * (1.0 + margin)
-                } else {
-                    1.0
-                };
-                if planner.pointwise_valid_at(d, s_end, 0.0, RollMode::Fixed)? {
-                    score += 1;
-                }
+    let scored: Vec<Result<Candidate>> = opts.par.map(&origins, |o| {
+        let rig = probe(rod_length, *o, &note(o))?;
+        let margin = rig.planner.margin;
+        let planner = match Planner::new(rig) {
+            Ok(p) => p,
+            Err(e) => {
+                return Ok(Candidate {
+                    origin: *o,
+                    starts: 0,
+                    score: 0,
+                    refused: Some(e.to_string()),
+                })
             }
-            Ok(Candidate {
-                origin: *o,
-                starts,
-                score,
-                refused: None,
-            })
+        };
+        let starts = planner.start_configurations(RollMode::Fixed).len();
+        let mut score = 0;
+        for (d, s) in dirs.iter().zip(&s_ends) {
+            let s_end = if s.is_finite() {
+                s * (1.0 + margin)
+            } else {
+                1.0
+            };
+            if planner.pointwise_valid_at(d, s_end, 0.0, RollMode::Fixed)? {
+                score += 1;
+            }
+        }
+        Ok(Candidate {
+            origin: *o,
+            starts,
+            score,
+            refused: None,
         })
-        .collect();
+    })?;
     let candidates = scored.into_iter().collect::<Result<Vec<_>>>()?;
     let chosen = candidates
         .iter()

@@ -231,13 +231,13 @@ pub struct ReachOptions {
     pub azimuths: Vec<Real>,
 }
 
-/// Plan one direction and format its row.
+/// Plan one direction: its record (the sweep driver writes its fields).
 pub fn reach_one(
     planner: &Planner,
     dir: &Direction,
     table: Option<&BoundaryTable>,
     opts: &ReachOptions,
-) -> Result<Row> {
+) -> Result<crate::records::reach::ReachRecord> {
     let s_star = s_star_of(dir, table)?;
     let kind = if planner.rig().planner.type_dependent() {
         Some(crate::bifurcation::planning_type(dir)?)
@@ -245,7 +245,7 @@ pub fn reach_one(
         None
     };
     let plan = planner.plan_best_typed(dir, s_star, kind, &opts.azimuths, opts.roll, false)?;
-    reach_row(&plan)
+    Ok(crate::records::reach::ReachRecord::from(&plan))
 }
 
 /// The settings a reach sweep records (see [`crate::sweep::record`]): a digest of the rig

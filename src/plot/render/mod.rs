@@ -54,12 +54,12 @@ pub use view::View;
 
 use crate::error::{Error, Result};
 use crate::math::Real;
+use crate::par::Par;
 use crate::planning::rig::Rig;
 use crate::plot::{DrawResult, Figure};
 use crate::records::render::{ClearanceFields, RenderFrameRecord};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use rayon::prelude::*;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -153,7 +153,9 @@ const GIF_CHUNK: usize = 8;
 /// Write an animated GIF (looping), one frame per snapshot (views side by side, one steady
 /// scale and centre for all frames), `delay_ms` per frame, into `out` (atomically). Progress
 /// every tenth of the frames on stderr when `progress`. At most [`input::MAX_GIF_FRAMES`].
+/// Frames are drawn in parallel on `par`, written in order.
 pub fn render_gif(
+    par: Par,
     scene: &Scene,
     snaps: &[Snapshot],
     opts: &RenderOptions,
@@ -201,18 +203,15 @@ pub fn render_gif(
         let delay = (delay_ms as Real / 10.0).round() as u16;
         let mut done = 0;
         for chunk in snaps.chunks(GIF_CHUNK) {
-            let frames: Vec<Result<gif::Frame<'static>>> = chunk
-                .par_iter()
-                .map(|s| {
-                    let rgb = render_rgb(scene, s, &layout, opts)?;
-                    let (pal, idx) = palette::reduce(&rgb);
-                    let mut f = gif::Frame::from_palette_pixels(w as u16, h as u16, idx, pal, None);
-                    f.delay = delay;
-                    // LZW-compress here, in parallel; the writer only copies the bytes.
-                    f.make_lzw_pre_encoded();
-                    Ok(f)
-                })
-                .collect();
+            let frames: Vec<Result<gif::Frame<'static>>> = par.map(chunk, |s| {
+                let rgb = render_rgb(scene, s, &layout, opts)?;
+                let (pal, idx) = palette::reduce(&rgb);
+                let mut f = gif::Frame::from_palette_pixels(w as u16, h as u16, idx, pal, None);
+                f.delay = delay;
+                // LZW-compress here, in parallel; the writer only copies the bytes.
+                f.make_lzw_pre_encoded();
+                Ok(f)
+            })?;
             for f in frames {
                 let f = f.map_err(|e| Error::File {
                     path: out.to_path_buf(),
@@ -250,6 +249,8 @@ pub struct TrajectoryRender {
     pub azimuth: Real,
     /// Progress on stderr.
     pub progress: bool,
+    /// The parallelism of the snapshots and the GIF frames.
+    pub par: Par,
 }
 
 impl Default for TrajectoryRender {
@@ -265,6 +266,7 @@ impl Default for TrajectoryRender {
             gif_delay_ms: 100,
             azimuth: 0.0,
             progress: false,
+            par: Par::all(),
         }
     }
 }
@@ -352,10 +354,10 @@ pub fn render_trajectory(
     let azimuth = input::resolve_azimuth(&scene, &rows, opts.azimuth)?;
     input::check_rows(&scene, &rows, azimuth, trajectory)?;
     let frames = input::select_frames(&rows, opts.frames)?;
-    let snaps = frames
-        .par_iter()
-        .enumerate()
-        .map(|(k, f)| {
+    let numbered: Vec<(usize, &input::FrameChoice)> = frames.iter().enumerate().collect();
+    let snaps = opts
+        .par
+        .map(&numbered, |&(k, f)| {
             row_snapshot(
                 &scene,
                 &rows,
@@ -363,7 +365,8 @@ pub fn render_trajectory(
                 azimuth,
                 &format!("#{} {}", k + 1, f.label),
             )
-        })
+        })?
+        .into_iter()
         .collect::<Result<Vec<_>>>()?;
     let mut strip_opts = opts.strip.clone();
     if strip_opts.title.is_empty() {
@@ -421,12 +424,13 @@ pub fn render_trajectory(
     let gif = match opts.gif_frames {
         Some(n) => {
             let idx = input::even_rows(&rows, n);
-            let snaps = idx
-                .par_iter()
-                .map(|&i| {
+            let snaps = opts
+                .par
+                .map(&idx, |&i| {
                     let r = &rows[i];
                     row_snapshot(&scene, &rows, i, azimuth, &format!("t = {:.1} s", r.t))
-                })
+                })?
+                .into_iter()
                 .collect::<Result<Vec<_>>>()?;
             let mut gif_opts = opts.gif.clone();
             if gif_opts.title.is_empty() {
@@ -437,6 +441,7 @@ pub fn render_trajectory(
             }
             let path = out_dir.join("render.gif");
             render_gif(
+                opts.par,
                 &scene,
                 &snaps,
                 &gif_opts,

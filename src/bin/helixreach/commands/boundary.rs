@@ -281,6 +281,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     opts.shard = a.shard;
     opts.checkpoint_interval = checkpoint;
     opts.progress = !super::global().quiet;
+    opts.par = helixreach::par::Par::from_option(super::global().threads)?;
     let t0 = Instant::now();
     let summary = driver::run(
         &dirs,

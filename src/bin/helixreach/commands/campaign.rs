@@ -213,6 +213,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         progress: !super::global().quiet,
         session_s: session_h * 3600.0,
         handling,
+        par: helixreach::par::Par::from_option(super::global().threads)?,
     };
     let t0 = std::time::Instant::now();
     let s = run_campaign(&input, &opts)?;

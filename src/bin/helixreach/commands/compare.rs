@@ -15,7 +15,6 @@ use helixreach::compare::{self, Measured};
 use helixreach::io::Output;
 use helixreach::math::Real;
 use helixreach::plot::records::read_boundary;
-use rayon::prelude::*;
 use std::path::PathBuf;
 
 /// Which simulated boundary.
@@ -65,15 +64,13 @@ fn simulate(m: &[Measured], method: Method, n_edges: usize) -> anyhow::Result<Ve
         n_edges,
         ..der::DerBoundaryParams::default()
     };
-    let s: Vec<helixreach::Result<Real>> = m
-        .par_iter()
-        .map(|x| match method {
-            Method::Continuum => {
-                continuum::critical_s(&x.dir, helixreach::math::tol::S_STAR_REL).map(|c| c.s_star)
-            }
-            Method::Der => der::critical_s(&x.dir, &p).map(|c| c.s_star),
-        })
-        .collect();
+    let par = helixreach::par::Par::from_option(super::global().threads)?;
+    let s: Vec<helixreach::Result<Real>> = par.map(m, |x| match method {
+        Method::Continuum => {
+            continuum::critical_s(&x.dir, helixreach::math::tol::S_STAR_REL).map(|c| c.s_star)
+        }
+        Method::Der => der::critical_s(&x.dir, &p).map(|c| c.s_star),
+    })?;
     s.into_iter()
         .zip(m)
         .map(|(r, x)| {

@@ -88,6 +88,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         sweep.force = args.force;
         sweep.checkpoint_interval = checkpoint_interval(args.checkpoint_secs)?;
         sweep.progress = !super::global().quiet;
+        sweep.par = helixreach::par::Par::from_option(super::global().threads)?;
         let t0 = std::time::Instant::now();
         let summary = run_sweep(
             &list,

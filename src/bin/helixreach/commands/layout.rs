@@ -122,6 +122,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         force: args.force,
         shard: args.shard,
         progress: !super::global().quiet,
+        par: helixreach::par::Par::from_option(super::global().threads)?,
     };
     let t0 = std::time::Instant::now();
     let report = run_layout(&rig, &dirs, table.as_ref(), &opts, &control, &args.out)?;

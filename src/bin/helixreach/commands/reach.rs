@@ -87,6 +87,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     sweep.checkpoint_interval = checkpoint;
     sweep.shard = args.shard;
     sweep.progress = !super::global().quiet;
+    sweep.par = helixreach::par::Par::from_option(super::global().threads)?;
     let t0 = std::time::Instant::now();
     let summary = run_reach(&planner, &dirs, table.as_ref(), &opts, &sweep)?;
     status!(

@@ -83,6 +83,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         gif_delay_ms: args.gif_delay_ms,
         azimuth: args.azimuth,
         progress: !super::global().quiet,
+        par: helixreach::par::Par::from_option(super::global().threads)?,
     };
     let t0 = std::time::Instant::now();
     let sum = render_trajectory(&rig, &args.trajectory, &opts, &args.out)?;

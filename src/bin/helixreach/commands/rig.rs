@@ -111,6 +111,7 @@ fn init(args: InitArgs) -> anyhow::Result<()> {
         tool_offset: args.tool_offset,
         padding: args.padding,
         rod_length: args.rod_length,
+        par: helixreach::par::Par::from_option(super::global().threads)?,
     };
     let r = rig_init(&opts, &dir)?;
     out.write(r.text.as_bytes())?;
