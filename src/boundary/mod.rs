@@ -2,6 +2,10 @@
 //!
 //! - [`continuum`]: the exact Kirchhoff-rod conjugate-point test.
 //! - [`der`]: the Discrete Elastic Rods statics boundary.
+//! - [`Method`]: which of the two a command or the study uses.
 
 pub mod continuum;
 pub mod der;
+pub mod method;
+
+pub use method::Method;

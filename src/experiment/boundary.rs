@@ -111,7 +111,7 @@ pub fn continuum_survey(
                     BoundaryRow {
                         dir: *d,
                         s_star: r.0,
-                        method: "continuum".into(),
+                        method: crate::boundary::Method::Continuum.as_str().into(),
                         resolution: resolution.clone(),
                     },
                     r.1,
@@ -161,7 +161,7 @@ pub fn continuum_survey(
         let cpu = r.iter().map(|x| x.2).sum::<f64>() / r.len() as f64;
         let (_, med, max) = stats(&rel);
         speed_rows.push(SpeedErrorRow {
-            method: "continuum".into(),
+            method: crate::boundary::Method::Continuum.as_str().into(),
             resolution: format!("tol={tol:e}"),
             time_per_direction_s: cpu,
             max_rel_err: max,

@@ -39,14 +39,8 @@ use std::time::Instant;
 
 pub use helixreach::records::BOUNDARY_HEADER as HEADER;
 
-/// Which stability test.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Method {
-    /// Kirchhoff-rod conjugate-point test (exact reference).
-    Continuum,
-    /// Discrete Elastic Rods statics with `--n-edges` edges.
-    Der,
-}
+/// Which stability test: the library's one [`helixreach::boundary::Method`].
+pub use helixreach::boundary::Method;
 
 /// Arguments of `helixreach boundary`.
 #[derive(Debug, clap::Args)]
@@ -180,13 +174,6 @@ fn solver(
     }
 }
 
-fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::Continuum => "continuum",
-        Method::Der => "der",
-    }
-}
-
 /// Run `helixreach boundary`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     // Cheap checks first: a bad output path or size fails before any computation.
@@ -223,7 +210,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Vec3::zeros()
     };
     let (solve, resolution) = solver(a.method, nu, a.tol, a.step, a.n_edges, weight)?;
-    let method = method_name(a.method);
+    let method = Method::as_str(a.method);
     let adaptive = match a.rel_tol {
         Some(e) if a.method == Method::Der => {
             let p = der::DerBoundaryParams {
@@ -338,7 +325,7 @@ fn speed_report(a: &Args, dirs: &[Direction], path: &Path) -> anyhow::Result<()>
         Method::Continuum => CONTINUUM_TOL_SWEEP.iter().map(|&t| (t, 0)).collect(),
         Method::Der => [25, 50, 100, 200].iter().map(|&n| (a.tol, n)).collect(),
     };
-    let method = method_name(a.method);
+    let method = Method::as_str(a.method);
     let mut lines = Vec::new();
     for (tol, n) in resolutions {
         let (solve, label) = solver(a.method, nu, tol, a.step, n, Vec3::zeros())?;

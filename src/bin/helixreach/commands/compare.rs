@@ -17,14 +17,8 @@ use helixreach::math::Real;
 use helixreach::plot::records::read_boundary;
 use std::path::PathBuf;
 
-/// Which simulated boundary.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Method {
-    /// Kirchhoff-rod conjugate-point test.
-    Continuum,
-    /// DER statics with `--n-edges` edges.
-    Der,
-}
+/// Which simulated boundary: the library's one [`helixreach::boundary::Method`].
+pub use helixreach::boundary::Method;
 
 /// Arguments of `helixreach compare`.
 #[derive(Debug, clap::Args)]
