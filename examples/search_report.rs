@@ -5,13 +5,17 @@
 //!
 //! ```text
 //! cargo run --release --example search_report -- [--directions 200] [--full] [--roll fixed|motor]
-//!     [--margin 0.1] [--every 1] [--only k] [--step rad] [--no-peer] [--no-backoff] [--csv out.csv]
+//!     [--margin 0.1] [--every 1] [--only k] [--step rad] [--no-peer] [--no-backoff]
+//!     [--no-reconfiguration] [--azimuths N] [--csv out.csv]
 //! ```
+//! `--no-backoff`, `--no-reconfiguration`: the rig's `planner.allow_backoff` and
+//! `planner.allow_reconfiguration` off; `--azimuths N`: each ray planned at N azimuths (the
+//! best kept, [`Planner::plan_best`]) instead of azimuth 0.
 //! `--full`: the whole sphere's Fibonacci lattice instead of the quarter-sphere; `--every k`:
 //! every k-th direction of the lattice; `--only k`: the k-th of those only; `--step`: the rig's `planner.self_motion_step`.
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
-use helixreach::planning::rig::{Rig, RollMode, SearchMethod};
+use helixreach::planning::rig::{azimuth_grid, Rig, RollMode, SearchMethod};
 
 fn cpu() -> f64 {
     helixreach::cpu_time::thread_cpu_seconds().expect("thread CPU clock")
@@ -45,6 +49,10 @@ fn main() -> helixreach::Result<()> {
     let mut rig = Rig::load("sawyer-seed")?;
     rig.planner.margin = margin;
     rig.planner.allow_backoff = !has("--no-backoff");
+    if has("--no-reconfiguration") {
+        rig.planner.allow_reconfiguration = false;
+    }
+    let azimuths = azimuth_grid(get("--azimuths").map_or(1, |v| v.parse().expect("--azimuths")));
     if let Some(v) = get("--step") {
         rig.planner.self_motion_step = v.parse().expect("--step");
     }
@@ -71,13 +79,13 @@ fn main() -> helixreach::Result<()> {
     for (k, d) in dirs.iter().enumerate() {
         let s_star = helixreach::boundary::continuum::critical_s(d, 1e-10)?.s_star;
         let c0 = cpu();
-        let e = exact.plan_ray(d, s_star, 0.0, roll, false)?;
+        let e = exact.plan_best(d, s_star, &azimuths, roll, false)?;
         let t_e = cpu() - c0;
         te.push(t_e);
         ce[idx(e.class)] += 1;
         let (l, t_l): (Option<RayPlan>, f64) = if peer {
             let c0 = cpu();
-            let l = ladder.plan_ray(d, s_star, 0.0, roll, false)?;
+            let l = ladder.plan_best(d, s_star, &azimuths, roll, false)?;
             let t = cpu() - c0;
             tl.push(t);
             cl[idx(l.class)] += 1;
@@ -137,13 +145,16 @@ fn main() -> helixreach::Result<()> {
         );
     };
     println!(
-        "{} directions ({}), roll {roll}, margin {margin}, azimuth 0",
+        "{} directions ({}), roll {roll}, margin {margin}, azimuths {:?}, back-off {}, reconfiguration {}",
         dirs.len(),
         if has("--full") {
             "sphere"
         } else {
             "quarter-sphere"
-        }
+        },
+        azimuths,
+        exact.rig().planner.allow_backoff,
+        exact.rig().planner.allow_reconfiguration
     );
     report("exact", &te, &ce);
     report("ladder", &tl, &cl);
