@@ -17,7 +17,6 @@ use super::ray::{simulate_ray, SimParams, Simulation};
 use crate::directions::Direction;
 use crate::error::Result;
 use crate::math::{Real, Vec3};
-use rayon::prelude::*;
 
 /// A factor of the study.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -119,10 +118,12 @@ pub fn study_direction() -> Direction {
 }
 
 /// Run the study for `factors` around `base` (every value of every factor), in parallel over
-/// runs, results in table order. `done()` is called after each run (from worker threads).
+/// runs on `par`, results in table order. `done()` is called after each run (from worker
+/// threads).
 pub fn run_study(
     base: &SimParams,
     factors: &[Factor],
+    par: crate::par::Par,
     done: &(dyn Fn() + Sync),
 ) -> Result<Vec<Run>> {
     let dir = study_direction();
@@ -131,16 +132,13 @@ pub fn run_study(
         .flat_map(|&f| f.values(base).into_iter().map(move |v| (f, v)))
         .map(|(f, v)| Ok((f, v, f.apply(base, v)?)))
         .collect::<Result<_>>()?;
-    Ok(jobs
-        .into_par_iter()
-        .map(|(factor, value, p)| {
-            let sim = simulate_ray(&dir, &p, &mut |_| {});
-            done();
-            Run {
-                factor,
-                value,
-                sim: sim.map_err(|e| e.to_string()),
-            }
-        })
-        .collect())
+    par.map(&jobs, |(factor, value, p)| {
+        let sim = simulate_ray(&dir, p, &mut |_| {});
+        done();
+        Run {
+            factor: *factor,
+            value: *value,
+            sim: sim.map_err(|e| e.to_string()),
+        }
+    })
 }

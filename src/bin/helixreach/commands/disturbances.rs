@@ -83,7 +83,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let started = std::time::Instant::now();
-    let runs = run_study(&base, &factors, &|| bar.inc(1))?;
+    let par = helixreach::par::Par::from_option(super::global().threads)?;
+    let runs = run_study(&base, &factors, par, &|| bar.inc(1))?;
     bar.finish_and_clear();
     std::fs::create_dir_all(&args.out).map_err(|source| helixreach::Error::Io {
         path: args.out.clone(),
