@@ -54,7 +54,7 @@
 //! # Outputs (written by `records::trajectory`; this module imports no file format)
 //! - CSV: `t,<joint names>,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase`, then the
 //!   velocities `v_<joint>..,v_motor` and accelerations `a_<joint>..,a_motor` (the URDF joint
-//!   names, as in the JSON; readers also take the earlier `q0..` header); the pose is the tool frame in the robot
+//!   names, as in the JSON; readers also take the index header `q0..`); the pose is the tool frame in the robot
 //!   base frame, the quaternion scalar first; `phase` is one of `load`, `reconfigure`, `hold`,
 //!   `unload`.
 //! - JSON / YAML: the arm's ROS 2 `trajectory_msgs/msg/JointTrajectory` (the motor on its own).

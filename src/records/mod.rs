@@ -525,7 +525,7 @@ pub fn read_speed_error(path: &Path) -> Result<Vec<SpeedErrorRow>> {
 
 /// Read a trajectory CSV (`helixreach plan`) without knowing the robot, by the one trajectory
 /// reader ([`trajectory::read_trajectory_file`]): the joint columns are `q0, q1, …` (the
-/// earlier header) up to the first missing index, otherwise the columns before `motor` but `t`
+/// index header) up to the first missing index, otherwise the columns before `motor` but `t`
 /// (the joint names of [`trajectory::trajectory_header`], in file order); `s` required.
 pub fn read_trajectory(path: &Path) -> Result<Vec<TrajectoryRow>> {
     let t = trajectory::read_trajectory_file(path, &[], "")?;

@@ -10,7 +10,7 @@
 //!   the rendering (`plot::render::input::read_trajectory`) and the check ([`read_joint_file`],
 //!   `check --trajectory`, the campaign's run files, the seed's runs), all by the column names
 //!   ([`joint_columns`], [`MOTOR_COLUMN`], [`POSE_COLUMNS`]). Every reader also accepts the
-//!   earlier header, which named the joints `q0..q{n-1}` ([`joint_column`]).
+//!   index header, which names the joints `q0..q{n-1}` ([`joint_column`]).
 //! - JSON / YAML: [`JointTrajectoryMsg`], exactly ROS 2 `trajectory_msgs/msg/JointTrajectory`
 //!   (fields in the message's order; `time_from_start {sec, nanosec}`; positions, velocities,
 //!   accelerations, an empty effort), for the arm alone ([`Channels::Arm`], URDF joint names)
@@ -23,7 +23,7 @@
 //! - **whitespace numbers**, exactly one per joint (the seed's `trajectories/*.txt`);
 //! - **CSV without header**, exactly one number per joint;
 //! - **CSV with a header** (a first line with a field that is not a number): the joints by the
-//!   robot's joint names (any order; a MoveIt export, `plan`'s CSV) or `q0..q{n-1}` (the earlier
+//!   robot's joint names (any order; a MoveIt export, `plan`'s CSV) or `q0..q{n-1}` (the index
 //!   header); `t` (or `time`, non-decreasing), `motor`, `s` (≥ 0), `kappa,tau,omega` (κ̂ ≥ 0),
 //!   `x,y,z`, `azimuth` and `phase` are read when present, other columns ignored. A column
 //!   named twice is refused.
@@ -54,7 +54,7 @@ pub fn joint_column(j: usize) -> String {
 pub enum JointHeader {
     /// The robot's joint names (what [`trajectory_csv`] writes).
     Names,
-    /// `q0, q1, …` (the earlier header).
+    /// `q0, q1, …` (the index header).
     Indexed,
     /// No robot given: the columns before `motor`, `t` (or `time`) aside.
     BeforeMotor,
@@ -123,7 +123,7 @@ pub const POSE_COLUMNS: [&str; 13] = [
 ///
 /// A name that cannot be a column is an error naming it: empty, with a comma, quote or line
 /// break or surrounding spaces, a name the header has already (`t`, `motor`, `s`, `x`, … or
-/// another joint's), or `q<k>` at another index than `k` (the earlier header's name of joint k).
+/// another joint's), or `q<k>` at another index than `k` (the index header's name of joint k).
 pub fn trajectory_header(joint_names: &[String]) -> Result<Vec<String>> {
     let mut h = vec!["t".to_string()];
     h.extend(joint_names.iter().cloned());
@@ -910,7 +910,7 @@ mod tests {
         assert!(text.starts_with(
             "t,a,b,c,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_a,v_b,v_c,v_motor,a_a,a_b,a_c,a_motor\n0.1,0,0.00000000000000001,1,"
         ));
-        // The earlier header (q0..), and the joint columns in another order: the same rows.
+        // The index header (q0..), and the joint columns in another order: the same rows.
         let indexed = text.replacen(
             "t,a,b,c,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_a,v_b,v_c,v_motor,a_a,a_b,a_c,",
             "t,q0,q1,q2,motor,s,kappa,tau,omega,x,y,z,qw,qx,qy,qz,phase,v_q0,v_q1,v_q2,v_motor,a_q0,a_q1,a_q2,",

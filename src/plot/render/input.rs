@@ -2,7 +2,7 @@
 //! the choice of frames.
 //!
 //! # Columns
-//! The robot's joints by their URDF names (any order), or `q0..q{n−1}` (the earlier header:
+//! The robot's joints by their URDF names (any order), or `q0..q{n−1}` (the index header:
 //! exactly the robot's count), and `s`, `kappa`, `tau`, `omega` are required; `t`, `motor`, `x,y,z` (the rod end in the base frame), `azimuth` and `phase`
 //! (`load`, `reconfigure`, `hold`, `unload`) are used when present. Every value used must be
 //! finite; an error names the file, the line and the field. At most
