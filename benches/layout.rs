@@ -79,7 +79,11 @@ fn sample(rig: &Rig, opts: &LayoutOptions, n_dirs: usize, picks: &[usize]) {
             let row = sweep.row(&(c, d)).expect("row");
             let dt = thread_cpu_s() - t;
             let e = by
-                .entry((row[9].clone(), row[4].clone(), row[7].clone()))
+                .entry((
+                    row.decided_by.to_string(),
+                    row.class.to_string(),
+                    row.cause.to_string(),
+                ))
                 .or_default();
             e.0 += 1;
             e.1 += dt;

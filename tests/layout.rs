@@ -345,8 +345,8 @@ fn placement_kind_agrees_with_the_planner_and_the_rows() {
     assert!(err.contains("unreachable clamp"), "{err}");
     assert!(Planner::new(cands[2].place(&rig)).is_ok());
     // Rows of the placements decided once: their decided_by says so.
-    assert_eq!(sweep.row(&(0, 0)).unwrap()[9], "reach_bound");
-    assert_eq!(sweep.row(&(1, 0)).unwrap()[9], "clamp");
+    assert_eq!(sweep.row(&(0, 0)).unwrap().decided_by, "reach_bound");
+    assert_eq!(sweep.row(&(1, 0)).unwrap().decided_by, "clamp");
 }
 
 #[test]

@@ -84,7 +84,7 @@ fn solve(par: Par, dirs: &[Direction], tol: f64) -> Result<Vec<(f64, f64, f64)>>
 
 /// The boundary CSV of `rows` with their error estimates (the record layer's columns and row).
 fn boundary_csv(rows: &[BoundaryRow], est: &[f64]) -> Result<String> {
-    let records: Vec<BoundaryRecord<'_>> = rows
+    let records: Vec<BoundaryRecord> = rows
         .iter()
         .zip(est)
         .map(|(r, e)| BoundaryRecord::new(&r.dir, r.s_star, &r.method, &r.resolution, *e))

@@ -30,7 +30,7 @@ use crate::layout::precheck::{end_pose_blocked, ReachBound};
 use crate::math::Real;
 use crate::planning::planner::{Planner, ReachClass};
 use crate::planning::rig::{Rig, RollMode};
-use crate::records::csv_out::{self, CsvRecord};
+use crate::records::csv_out::CsvRecord;
 use crate::records::layout::{RayRecord, RAY_KEY_COLUMNS};
 use crate::records::{dir_key, fmt_real};
 use crate::sweep::driver::{self, Row, SweepOptions, SweepSummary};
@@ -186,28 +186,18 @@ impl<'a> Sweep<'a> {
     }
 
     /// The row of one item (a [`RayRecord`]).
-    pub fn row(&self, item: &Item) -> Result<Row> {
+    pub fn row(&self, item: &Item) -> Result<RayRecord<'_>> {
         let (c, d) = *item;
         let dir = &self.dirs[d];
         let s_star = self.s_star[d];
         let record = |class: &'static str,
                       s_reached: Option<Real>,
                       azimuth: Option<Real>,
-                      cause: &str,
-                      decided_by: &'static str|
-         -> Result<Row> {
-            csv_out::fields(&RayRecord {
-                candidate: c,
-                dir_kappa: dir.kappa,
-                dir_tau: dir.tau,
-                dir_omega: dir.omega,
-                class,
-                s_reached,
-                azimuth,
-                cause,
-                s_star,
-                decided_by,
-            })
+                      cause,
+                      decided_by: &'static str| {
+            Ok(ray_record(
+                c, dir, class, s_reached, azimuth, cause, s_star, decided_by,
+            ))
         };
         match self.slot(c)? {
             Slot::OutOfReach => record("unreachable", None, None, "no_ik", "reach_bound"),
@@ -338,4 +328,30 @@ pub fn read_rays(path: &Path, n_candidates: usize, dirs: &[Direction]) -> Result
         });
     }
     Ok(out)
+}
+
+/// The record of one ray (`cause` borrowed from the placement's slot or a planner constant).
+#[allow(clippy::too_many_arguments)]
+fn ray_record<'a>(
+    candidate: usize,
+    dir: &Direction,
+    class: &'static str,
+    s_reached: Option<Real>,
+    azimuth: Option<Real>,
+    cause: &'a str,
+    s_star: Real,
+    decided_by: &'static str,
+) -> RayRecord<'a> {
+    RayRecord {
+        candidate,
+        dir_kappa: dir.kappa,
+        dir_tau: dir.tau,
+        dir_omega: dir.omega,
+        class,
+        s_reached,
+        azimuth,
+        cause,
+        s_star,
+        decided_by,
+    }
 }

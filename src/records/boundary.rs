@@ -11,7 +11,7 @@ use crate::math::Real;
 /// One direction of a boundary CSV: where the ray S̄ leaves the stable set. The boundary point
 /// is `s*·S̄` with `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct BoundaryRecord<'a> {
+pub struct BoundaryRecord {
     /// The direction (`dir_kappa,dir_tau,dir_omega`).
     pub dir: DirColumns,
     /// Critical distance s* (`inf`: stable up to the search limit; empty: refused).
@@ -27,9 +27,9 @@ pub struct BoundaryRecord<'a> {
     #[serde(serialize_with = "csv_out::real_or_empty")]
     pub omega: Real,
     /// Boundary method (`continuum`, `der`, …).
-    pub method: &'a str,
+    pub method: String,
     /// Method resolution (tolerance, n).
-    pub resolution: &'a str,
+    pub resolution: String,
     /// The method's error estimate of s*, in exponent notation (`1.5e-9`).
     #[serde(serialize_with = "csv_out::real_exp_or_empty")]
     pub est_error: Real,
@@ -39,7 +39,7 @@ pub struct BoundaryRecord<'a> {
     pub refused: String,
 }
 
-impl CsvRecord for BoundaryRecord<'_> {
+impl CsvRecord for BoundaryRecord {
     const HEADER: &'static [&'static str] = &[
         "dir_kappa",
         "dir_tau",
@@ -55,13 +55,21 @@ impl CsvRecord for BoundaryRecord<'_> {
     ];
 }
 
-impl<'a> BoundaryRecord<'a> {
+impl BoundaryRecord {
     /// The record of direction `d` with boundary `s_star`.
+    ///
+    /// ```
+    /// use helixreach::{directions::Direction, records::{boundary::BoundaryRecord, csv_out::fields}};
+    /// let d = Direction::new(1.0, 0.0, 0.0).unwrap();
+    /// let r = BoundaryRecord::new(&d, f64::INFINITY, "continuum", "1e-10", 0.0);
+    /// assert_eq!(fields(&r)?[3..7], ["inf", "inf", "0", "0"]);
+    /// # Ok::<(), helixreach::Error>(())
+    /// ```
     pub fn new(
         d: &Direction,
         s_star: Real,
-        method: &'a str,
-        resolution: &'a str,
+        method: &str,
+        resolution: &str,
         est_error: Real,
     ) -> Self {
         let scaled = |c: Real| if c == 0.0 { 0.0 } else { s_star * c };
@@ -71,15 +79,15 @@ impl<'a> BoundaryRecord<'a> {
             kappa: scaled(d.kappa),
             tau: scaled(d.tau),
             omega: scaled(d.omega),
-            method,
-            resolution,
+            method: method.to_string(),
+            resolution: resolution.to_string(),
             est_error,
             refused: String::new(),
         }
     }
 
     /// The record of a direction the method refused, with the reason (one line).
-    pub fn refused(d: &Direction, method: &'a str, resolution: &'a str, reason: &str) -> Self {
+    pub fn refused(d: &Direction, method: &str, resolution: &str, reason: &str) -> Self {
         let mut r = Self::new(d, Real::NAN, method, resolution, Real::NAN);
         r.refused = reason.replace(['\n', '\r'], " ");
         r

@@ -123,41 +123,6 @@ pub fn dir_key(d: &Direction) -> Vec<String> {
     vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)]
 }
 
-/// One boundary row as fields (a [`boundary::BoundaryRecord`]): the boundary point is `s*·S̄`
-/// with `∞·0 = 0` (a ray stable to ∞ has no extent along a zero component).
-///
-/// ```
-/// use helixreach::{directions::Direction, records::boundary_row};
-/// let d = Direction::new(1.0, 0.0, 0.0).unwrap();
-/// let r = boundary_row(&d, f64::INFINITY, "continuum", "1e-10", 0.0)?;
-/// assert_eq!(r[3..7], ["inf", "inf", "0", "0"]);
-/// # Ok::<(), helixreach::Error>(())
-/// ```
-pub fn boundary_row(
-    d: &Direction,
-    s_star: Real,
-    method: &str,
-    resolution: &str,
-    est_error: Real,
-) -> Result<Vec<String>> {
-    csv_out::fields(&boundary::BoundaryRecord::new(
-        d, s_star, method, resolution, est_error,
-    ))
-}
-
-/// The row of a direction the boundary method refused (see
-/// [`boundary::BoundaryRecord::refused`]).
-pub fn boundary_refused_row(
-    d: &Direction,
-    method: &str,
-    resolution: &str,
-    reason: &str,
-) -> Result<Vec<String>> {
-    csv_out::fields(&boundary::BoundaryRecord::refused(
-        d, method, resolution, reason,
-    ))
-}
-
 pub use crate::planning::ladder::BlockCause;
 pub use crate::planning::planner::ReachClass;
 

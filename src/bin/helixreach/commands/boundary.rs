@@ -116,16 +116,12 @@ pub struct Args {
     pub speed_report: Option<PathBuf>,
 }
 
+use helixreach::records::boundary::BoundaryRecord;
 pub use helixreach::records::{dir_key, SpeedErrorRow};
 
-/// One boundary row.
-fn row(
-    d: &Direction,
-    r: CriticalS,
-    method: &str,
-    resolution: &str,
-) -> helixreach::Result<Vec<String>> {
-    helixreach::records::boundary_row(d, r.s_star, method, resolution, r.est_error)
+/// One boundary record.
+fn row(d: &Direction, r: CriticalS, method: &str, resolution: &str) -> BoundaryRecord {
+    BoundaryRecord::new(d, r.s_star, method, resolution, r.est_error)
 }
 
 /// A solver for one direction: `(s*, resolution label)`.
@@ -276,10 +272,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         // A direction the method refuses is a row with its reason: the sweep finishes and
         // resumes past it.
         |d| match solve(d) {
-            Ok((r, per_row)) => row(d, r, method, per_row.as_deref().unwrap_or(&resolution)),
-            Err(e) => {
-                helixreach::records::boundary_refused_row(d, method, &resolution, &e.to_string())
-            }
+            Ok((r, per_row)) => Ok(row(d, r, method, per_row.as_deref().unwrap_or(&resolution))),
+            Err(e) => Ok(BoundaryRecord::refused(
+                d,
+                method,
+                &resolution,
+                &e.to_string(),
+            )),
         },
         &opts,
     )?;

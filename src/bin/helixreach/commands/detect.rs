@@ -98,7 +98,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 if rec.reason == "rejected" {
                     eprintln!("{}:{}: rejected: {}", runs.display(), r.line, rec.notes);
                 }
-                csv_out::fields(&rec)
+                Ok(rec)
             },
             &sweep,
         )?;
