@@ -119,6 +119,22 @@ pub mod tol {
     /// A direction with τ̂ ≥ −this counts as on the quarter-sphere τ̂ ≥ 0 (a lattice point's τ̂ is
     /// ≥ 0 up to rounding of its normalization).
     pub const ON_QUARTER: Real = 1e-9;
+    /// Two azimuths (rad) closer than this, modulo 2π, are the same azimuth (a boundary's
+    /// recorded azimuth against a planned one: both print shortest round-trip).
+    pub const AZIMUTH: Real = 1e-9;
+}
+
+/// Whether azimuths `a` and `b` (rad) are the same angle, to [`tol::AZIMUTH`] modulo 2π.
+///
+/// ```
+/// use helixreach::math::same_azimuth;
+/// assert!(same_azimuth(0.0, std::f64::consts::TAU));
+/// assert!(same_azimuth(-1e-12, 0.0));
+/// assert!(!same_azimuth(0.0, 1e-6));
+/// ```
+pub fn same_azimuth(a: Real, b: Real) -> bool {
+    let d = (a - b).rem_euclid(std::f64::consts::TAU);
+    d.min(std::f64::consts::TAU - d) <= tol::AZIMUTH
 }
 
 /// The twist ratio `c = k_t/k_b = 1/(1+ν)` of a circular cross-section, for a Poisson ratio

@@ -616,3 +616,210 @@ fn planning_commands_use_the_boundary_of_the_rigs_rod() {
         assert!(e.contains(n), "{n:?} missing from: {e}");
     }
 }
+
+/// Rows of a CSV as maps from column name to field.
+fn read_rows(path: &str) -> Vec<std::collections::HashMap<String, String>> {
+    let mut r = csv::Reader::from_path(path).unwrap();
+    let head = r.headers().unwrap().clone();
+    r.records()
+        .map(|rec| {
+            let rec = rec.unwrap();
+            head.iter()
+                .zip(rec.iter())
+                .map(|(h, v)| (h.to_string(), v.to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+/// Gravity makes s* depend on the ray's azimuth when the rod is not vertical, so `reach` with
+/// several azimuths takes one boundary with gravity per azimuth and plans each azimuth to its
+/// own s*: every row carries the s* of the boundary of its chosen azimuth, and the row is the
+/// one of the two single-azimuth sweeps, each run on its own boundary, that the order of
+/// `plan_best` picks (the first testable azimuth; else testable > partial > blocked, then
+/// farther, then cheaper, then the first azimuth). A missing azimuth, two files at
+/// one azimuth, or a gravity-free file among them are refused, naming the way out.
+#[test]
+fn reach_with_azimuths_plans_each_azimuth_to_its_own_gravity_boundary() {
+    let dir = tempfile::tempdir().unwrap();
+    // L_gb/L = 0.50 (gravity required), the rod held horizontally along −x of the base, its
+    // clamp raised to where the Sawyer reaches the straight rod's end.
+    let rod = "length = 0.51\ndiameter = 1.5875e-3\nyoungs_modulus = 13.3e9\npoisson = 0.33\n\
+               density = 6450.0";
+    // Azimuths 0 and 3π/2: on this rig each wins some of the directions below.
+    let a2 = (1.5 * std::f64::consts::PI).to_string();
+    let horizontal = seed_rig_with_rod(rod)
+        .replace(
+            "origin = [0.85, -0.15, -0.144]",
+            "origin = [0.95, -0.15, 0.1]",
+        )
+        .replace("d1 = [0.0, 1.0, 0.0]", "d1 = [0.0, 0.0, 1.0]")
+        .replace("d3 = [0.0, 0.0, 1.0]", "d3 = [-1.0, 0.0, 0.0]");
+    assert!(horizontal.contains("choices = [0.0]"));
+    let rig0 = write_rig(dir.path(), "h0.toml", &horizontal);
+    let rig_a2 = write_rig(
+        dir.path(),
+        "ha2.toml",
+        &horizontal.replace("choices = [0.0]", &format!("choices = [{a2}]")),
+    );
+    let both = write_rig(
+        dir.path(),
+        "hboth.toml",
+        &horizontal.replace("choices = [0.0]", &format!("choices = [0.0, {a2}]")),
+    );
+    let (rig0, rig_a2, both) = (
+        rig0.to_str().unwrap(),
+        rig_a2.to_str().unwrap(),
+        both.to_str().unwrap(),
+    );
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let dirs = out("dirs.csv");
+    std::fs::write(
+        &dirs,
+        "dir_kappa,dir_tau,dir_omega\n1,1,-1\n0.594,0.698,0.4\n1,0.2,0.1\n1,0.5,-0.5\n0.5,0.1,1\n",
+    )
+    .unwrap();
+    let boundary = |azimuth: &str, name: &str| {
+        let b = out(name);
+        ok(&cli(&[
+            "boundary",
+            "--method",
+            "der",
+            "--gravity",
+            "--rig",
+            rig0,
+            "--azimuth",
+            azimuth,
+            "--directions",
+            &dirs,
+            "--n-edges",
+            "30",
+            "--out",
+            &b,
+        ]));
+        b
+    };
+    let (b0, b_a2) = (boundary("0", "b0.csv"), boundary(&a2, "ba2.csv"));
+    let s_of = |path: &str| -> Vec<f64> {
+        read_rows(path)
+            .iter()
+            .map(|r| r["s_star"].parse().unwrap())
+            .collect()
+    };
+    let (s0, s_a2) = (s_of(&b0), s_of(&b_a2));
+    assert!(
+        s0.iter()
+            .zip(&s_a2)
+            .any(|(a, b)| (a / b - 1.0).abs() > 1e-3),
+        "a horizontal rod's s* must depend on the azimuth: {s0:?} vs {s_a2:?}"
+    );
+    let reach = |rig: &str, files: &[&str], name: &str| {
+        let o = out(name);
+        let mut args = vec!["reach", "--rig", rig, "--directions", &dirs, "--out", &o];
+        for f in files {
+            args.extend(["--boundary", f]);
+        }
+        let res = cli(&args);
+        (res, o)
+    };
+    let (res, r_both) = reach(both, &[&b0, &b_a2], "both.csv");
+    ok(&res);
+    assert!(
+        String::from_utf8_lossy(&res.stderr).contains("its own s*"),
+        "{}",
+        String::from_utf8_lossy(&res.stderr)
+    );
+    let (res, r0) = reach(rig0, &[&b0], "r0.csv");
+    ok(&res);
+    let (res, r_a2) = reach(rig_a2, &[&b_a2], "ra2.csv");
+    ok(&res);
+    let rank = |c: &str| match c {
+        "testable" => 3,
+        "undecided" => 2,
+        "partial" => 1,
+        "blocked" => 0,
+        other => panic!("class {other}"),
+    };
+    let (rows, rows0, rows_a2) = (read_rows(&r_both), read_rows(&r0), read_rows(&r_a2));
+    assert_eq!(rows.len(), 5);
+    let show = |r: &[std::collections::HashMap<String, String>]| -> Vec<String> {
+        r.iter()
+            .map(|r| {
+                format!(
+                    "{} {} {} {}",
+                    r["azimuth"], r["s_star"], r["class"], r["s_reached"]
+                )
+            })
+            .collect()
+    };
+    eprintln!(
+        "both {:?}\nazimuth 0 {:?}\nazimuth 3pi/2 {:?}",
+        show(&rows),
+        show(&rows0),
+        show(&rows_a2)
+    );
+    let mut chosen = [0usize; 2];
+    for k in 0..5 {
+        let (row, a, b) = (&rows[k], &rows0[k], &rows_a2[k]);
+        let az: f64 = row["azimuth"].parse().unwrap();
+        let own = if az.abs() < 1e-9 { s0[k] } else { s_a2[k] };
+        assert!(
+            az.abs() < 1e-9 || (az - 1.5 * std::f64::consts::PI).abs() < 1e-9,
+            "azimuth {az}"
+        );
+        chosen[usize::from(az.abs() > 1e-9)] += 1;
+        let s: f64 = row["s_star"].parse().unwrap();
+        assert_eq!(s, own, "row {k}: planned to the s* of its own azimuth");
+        let key = |r: &std::collections::HashMap<String, String>| {
+            (
+                rank(&r["class"]),
+                r["s_reached"].parse::<f64>().unwrap(),
+                -r["path_cost"].parse::<f64>().unwrap(),
+            )
+        };
+        // The first testable azimuth in order ends the search; else the better one.
+        let better = if a["class"] != "testable" && key(b).partial_cmp(&key(a)).unwrap().is_gt() {
+            b
+        } else {
+            a
+        };
+        for col in [
+            "class",
+            "s_reached",
+            "azimuth",
+            "s_star",
+            "cause",
+            "path_cost",
+        ] {
+            assert_eq!(row[col], better[col], "row {k}, column {col}");
+        }
+    }
+    assert!(
+        chosen.iter().all(|&n| n > 0),
+        "each azimuth must win some ray for the test to discriminate: {chosen:?}"
+    );
+    let refused = |res: &Output, needles: &[&str]| {
+        let e = String::from_utf8_lossy(&res.stderr);
+        assert_eq!(res.status.code(), Some(2), "{e}");
+        for n in needles {
+            assert!(e.contains(n), "{n:?} missing from: {e}");
+        }
+    };
+    // An azimuth without its boundary.
+    refused(&reach(both, &[&b0], "x1.csv").0, &["azimuth", "--boundary"]);
+    // The same azimuth twice.
+    let b0_again = out("b0_again.csv");
+    std::fs::copy(&b0, &b0_again).unwrap();
+    std::fs::copy(format!("{b0}.meta.json"), format!("{b0_again}.meta.json")).unwrap();
+    refused(
+        &reach(both, &[&b0, &b0_again], "x2.csv").0,
+        &["b0_again.csv", "one boundary per azimuth"],
+    );
+    // A gravity-free boundary among them.
+    let free = out("free.csv");
+    ok(&cli(&["boundary", "--directions", &dirs, "--out", &free]));
+    refused(
+        &reach(both, &[&b0, &free], "x3.csv").0,
+        &["free.csv", "no gravity"],
+    );
+}

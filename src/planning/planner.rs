@@ -1421,8 +1421,28 @@ impl Planner {
         roll: RollMode,
         want_path: bool,
     ) -> Result<RayPlan> {
+        self.plan_best_at(
+            dir,
+            &AzimuthTargets::Same(s_star, azimuths),
+            roll,
+            want_path,
+        )
+    }
+
+    /// [`Planner::plan_best`] with a boundary s* per azimuth ([`AzimuthTargets`]): each azimuth
+    /// is planned to its own s*, and the best plan is kept by the same order — testable before
+    /// partial before blocked, then the farthest s, then the lowest cost, then the first
+    /// azimuth. A boundary with gravity depends on the azimuth (gravity breaks the isotropy of
+    /// the gravity-free rod), so a sweep over azimuths compares each with its own s*.
+    pub fn plan_best_at(
+        &self,
+        dir: &Direction,
+        targets: &AzimuthTargets<'_>,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
         let mut best: Option<RayPlan> = None;
-        for &a in azimuths {
+        for (a, s_star) in targets.iter() {
             let p = self.plan_ray(dir, s_star, a, roll, want_path)?;
             let better = match &best {
                 None => true,
@@ -1453,7 +1473,7 @@ impl Planner {
     /// `kind` ([`PlannerSettings::margin_for`](crate::planning::rig::PlannerSettings::margin_for):
     /// `margin` when subcritical, `margin_supercritical` when supercritical, the larger when
     /// degenerate or unknown); the plan records the type in `assumed_type` (`None` when the
-    /// rig's margin does not depend on it). Issue 12.
+    /// rig's margin does not depend on it).
     pub fn plan_best_typed(
         &self,
         dir: &Direction,
@@ -1463,10 +1483,24 @@ impl Planner {
         roll: RollMode,
         want_path: bool,
     ) -> Result<RayPlan> {
+        let targets = AzimuthTargets::Same(s_star, azimuths);
+        self.plan_best_typed_at(dir, &targets, kind, roll, want_path)
+    }
+
+    /// [`Planner::plan_best_typed`] with a boundary s* per azimuth
+    /// ([`Planner::plan_best_at`]).
+    pub fn plan_best_typed_at(
+        &self,
+        dir: &Direction,
+        targets: &AzimuthTargets<'_>,
+        kind: Option<crate::bifurcation::BifurcationType>,
+        roll: RollMode,
+        want_path: bool,
+    ) -> Result<RayPlan> {
         let settings = &self.rig.planner;
         let margin = settings.margin_for(kind);
         let mut plan = if margin == settings.margin {
-            self.plan_best(dir, s_star, azimuths, roll, want_path)?
+            self.plan_best_at(dir, targets, roll, want_path)?
         } else {
             let other = self.other_margin.get_or_init(|| {
                 let mut rig = self.rig.clone();
@@ -1475,7 +1509,7 @@ impl Planner {
                 Planner::new(rig).map(Box::new).map_err(|e| e.to_string())
             });
             match other {
-                Ok(p) => p.plan_best(dir, s_star, azimuths, roll, want_path)?,
+                Ok(p) => p.plan_best_at(dir, targets, roll, want_path)?,
                 Err(e) => {
                     return Err(Error::invalid(
                         format!("{}: planner.margin_supercritical", self.rig.source),
@@ -1498,6 +1532,33 @@ impl Planner {
     /// the farthest s reached, hold, unload along the same joint path reversed).
     pub fn trajectory(&self, plan: &RayPlan) -> Result<Trajectory> {
         crate::planning::trajectory::of_plan(self, plan)
+    }
+}
+
+/// The azimuths a ray is planned at, each with the boundary s* it is planned to
+/// ([`Planner::plan_best_at`]).
+#[derive(Debug, Clone, Copy)]
+pub enum AzimuthTargets<'a> {
+    /// One s* for every azimuth (a gravity-free boundary: s* does not depend on the azimuth).
+    Same(Real, &'a [Real]),
+    /// `(azimuth, s*)` pairs (a boundary with gravity, one per azimuth).
+    Each(&'a [(Real, Real)]),
+}
+
+impl AzimuthTargets<'_> {
+    /// The `(azimuth, s*)` pairs, in order.
+    pub fn iter(&self) -> impl Iterator<Item = (Real, Real)> + '_ {
+        let (same, each): (&[Real], &[(Real, Real)]) = match self {
+            AzimuthTargets::Same(_, a) => (a, &[]),
+            AzimuthTargets::Each(e) => (&[], e),
+        };
+        let s = match self {
+            AzimuthTargets::Same(s, _) => *s,
+            AzimuthTargets::Each(_) => Real::NAN,
+        };
+        same.iter()
+            .map(move |&a| (a, s))
+            .chain(each.iter().copied())
     }
 }
 

@@ -115,7 +115,7 @@ pub fn estimated_shift(ratio: Real) -> Real {
 /// it the statics move s* by at most ≈ 3.4 % on snapping directions (the
 /// [`estimated_shift`] at 0.6) and stay on the snapping branch; below it the commands need a
 /// boundary computed with gravity.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(tag = "gravity", rename_all = "snake_case")]
 pub enum PlanningGravity {
     /// `L_gb/L ≥` [`STATIC_LGB_THRESHOLD`]: gravity moves s* by less than 1 %; the gravity-free
@@ -136,13 +136,14 @@ pub enum PlanningGravity {
         /// The smallest planning margin of the rig.
         margin: Real,
     },
-    /// The boundary was computed with gravity (`boundary --method der --gravity`) at this
-    /// azimuth, the only one the command plans at.
+    /// The boundary was computed with gravity (`boundary --method der --gravity`) at these
+    /// azimuths (one file each), which cover every azimuth the command plans at: a ray planned
+    /// at an azimuth is planned to that azimuth's s*.
     Included {
         /// Gravity of the boundary (m/s²).
         g: Real,
-        /// Its azimuth (rad).
-        azimuth: Real,
+        /// Its azimuths (rad), one per boundary file.
+        azimuths: Vec<Real>,
     },
 }
 
@@ -187,44 +188,58 @@ impl std::fmt::Display for PlanningGravity {
                 100.0 * margin,
                 100.0 * (shift - margin)
             ),
-            PlanningGravity::Included { g, azimuth } => write!(
-                f,
-                "boundary computed with gravity g = {g} m/s² at azimuth {azimuth} rad"
-            ),
+            PlanningGravity::Included { g, ref azimuths } => {
+                let list: Vec<String> = azimuths.iter().map(|a| a.to_string()).collect();
+                let (s, each) = if azimuths.len() == 1 {
+                    ("", "")
+                } else {
+                    ("s", ", each ray at each azimuth planned to its own s*")
+                };
+                write!(
+                    f,
+                    "boundary computed with gravity g = {g} m/s² at azimuth{s} {} rad{each}",
+                    list.join(", ")
+                )
+            }
         }
     }
 }
 
 /// Decide how a planning command on `rod` (the rig `rig`'s, for messages) with the smallest
 /// margin `margin` accounts for gravity ([`PlanningGravity`]). `boundary_gravity`: the
-/// `(g, azimuth)` of a boundary table computed with gravity, if one is given; `azimuths`: the
-/// azimuths the command plans at (a boundary with gravity holds for its own azimuth only).
+/// `(g, azimuth)` of each boundary file computed with gravity, if any are given (a boundary
+/// with gravity holds for its own azimuth only); `azimuths`: the azimuths the command plans at.
 ///
 /// Errors (naming the rod's ratio and the way out) when `L_gb/L` is below
 /// [`SEED_LGB_THRESHOLD`] — where the [`estimated_shift`] is not trusted, gravity can move s*
-/// to another branch — and no boundary with gravity is given, or when such a boundary's
-/// azimuth is not the one planned at.
+/// to another branch — and no boundary with gravity is given, or when an azimuth planned at
+/// has no boundary with gravity.
 pub fn planning_gravity(
     rod: &PhysicalRod,
     rig: &str,
     margin: Real,
-    boundary_gravity: Option<(Real, Real)>,
+    boundary_gravity: &[(Real, Real)],
     azimuths: &[Real],
 ) -> Result<PlanningGravity> {
-    if let Some((g, azimuth)) = boundary_gravity {
-        if let Some(a) = azimuths.iter().find(|a| (**a - azimuth).abs() > 1e-12) {
+    if let Some(&(g, _)) = boundary_gravity.first() {
+        let have: Vec<Real> = boundary_gravity.iter().map(|&(_, a)| a).collect();
+        let covered = |a: Real| have.iter().any(|&b| crate::math::same_azimuth(a, b));
+        if let Some(a) = azimuths.iter().find(|&&a| !covered(a)) {
+            let list: Vec<String> = have.iter().map(|a| a.to_string()).collect();
             return Err(crate::Error::invalid(
                 "azimuth",
                 a,
                 format!(
-                    "the boundary was computed with gravity at azimuth {azimuth} rad, and \
-                     gravity makes s* depend on the azimuth: plan at that azimuth only \
-                     (--azimuths 1 plans at 0; or a rig with azimuth.choices = [{azimuth}]), or \
-                     compute one boundary per azimuth"
+                    "the boundary was computed with gravity at azimuth {} rad, and gravity \
+                     makes s* depend on the azimuth: plan at those azimuths only (--azimuths 1 \
+                     plans at 0; or a rig with azimuth.choices), or compute the boundary at \
+                     this azimuth too (`helixreach boundary --method der --gravity --azimuth \
+                     {a}`) and give each file its own --boundary (`reach`)",
+                    list.join(", ")
                 ),
             ));
         }
-        return Ok(PlanningGravity::Included { g, azimuth });
+        return Ok(PlanningGravity::Included { g, azimuths: have });
     }
     let ratio = assess(rod, crate::rod::dynamics::presets::STANDARD_GRAVITY)?.lgb_over_l;
     if ratio >= STATIC_LGB_THRESHOLD {

@@ -18,8 +18,8 @@
 
 use crate::directions::Direction;
 use crate::error::{Error, Result};
-use crate::math::{tol, Real};
-use crate::planning::planner::{Planner, RayPlan};
+use crate::math::{same_azimuth, tol, Real};
+use crate::planning::planner::{AzimuthTargets, Planner, RayPlan};
 use crate::planning::rig::RollMode;
 use crate::sweep::driver::{self, Row, SweepOptions, SweepSummary};
 use crate::sweep::record::fnv1a_hex;
@@ -29,9 +29,17 @@ use std::path::Path;
 pub use crate::records::REACH_HEADER;
 
 /// s* per direction read from a boundary CSV (`dir_kappa,dir_tau,dir_omega,s_star`, `inf`
-/// allowed). Directions are matched after normalization, to 1e-9.
+/// allowed), or from several boundary CSVs computed with gravity, one per azimuth
+/// ([`BoundaryTable::read_per_azimuth`]: gravity makes s* depend on the ray's azimuth).
+/// Directions are matched after normalization, to 1e-9.
 #[derive(Debug, Clone, Default)]
 pub struct BoundaryTable {
+    parts: Vec<Part>,
+}
+
+/// One boundary CSV of a [`BoundaryTable`].
+#[derive(Debug, Clone, Default)]
+struct Part {
     map: HashMap<[i64; 3], Real>,
     path: std::path::PathBuf,
     gravity: Option<(Real, Real)>,
@@ -45,6 +53,154 @@ fn key_of(d: &Direction) -> [i64; 3] {
 impl BoundaryTable {
     /// Read a boundary CSV. Errors name the file, line and column.
     pub fn read(path: &Path) -> Result<BoundaryTable> {
+        Ok(BoundaryTable {
+            parts: vec![Part::read(path)?],
+        })
+    }
+
+    /// Read one boundary CSV ([`BoundaryTable::read`]), or several computed with gravity at
+    /// distinct azimuths (`helixreach boundary --method der --gravity --azimuth A`, one file
+    /// per azimuth, the same g): a ray planned at azimuth A is then planned to the s* of the
+    /// file of A ([`s_star_at`]). Several files without gravity, with different g or with the
+    /// same azimuth twice are refused, naming the files.
+    pub fn read_per_azimuth(paths: &[std::path::PathBuf]) -> Result<BoundaryTable> {
+        crate::limits::check_size("boundary files", paths.len(), crate::limits::MAX_AZIMUTHS)?;
+        if paths.len() <= 1 {
+            return match paths.first() {
+                Some(p) => Self::read(p),
+                None => Err(Error::invalid("boundary", "[]", "need at least one file")),
+            };
+        }
+        let mut parts: Vec<Part> = Vec::with_capacity(paths.len());
+        for p in paths {
+            let part = Part::read(p)?;
+            let Some((g, a)) = part.gravity else {
+                return Err(Error::File {
+                    path: p.clone(),
+                    reason: "several --boundary files are one per azimuth, each computed with \
+                             gravity (`helixreach boundary --method der --gravity --azimuth A`); \
+                             this one has no gravity (a gravity-free s* holds for every \
+                             azimuth: give it alone)"
+                        .into(),
+                });
+            };
+            for q in &parts {
+                let (g0, a0) = q.gravity.expect("every part has gravity");
+                if (g - g0).abs() > 1e-12 * g0.abs().max(1.0) {
+                    return Err(Error::File {
+                        path: p.clone(),
+                        reason: format!(
+                            "computed with g = {g} m/s², {} with g = {g0}: the boundaries per \
+                             azimuth must share the gravity",
+                            q.path.display()
+                        ),
+                    });
+                }
+                if same_azimuth(a, a0) {
+                    return Err(Error::File {
+                        path: p.clone(),
+                        reason: format!(
+                            "computed at azimuth {a} rad, as {} is: one boundary per azimuth",
+                            q.path.display()
+                        ),
+                    });
+                }
+            }
+            parts.push(part);
+        }
+        Ok(BoundaryTable { parts })
+    }
+
+    /// `(g, azimuth)` when the table was computed with gravity (`boundary --method der
+    /// --gravity`, recorded in its sidecar), of each of its files; empty for a gravity-free
+    /// boundary.
+    pub fn gravity(&self) -> Vec<(Real, Real)> {
+        self.parts.iter().filter_map(|p| p.gravity).collect()
+    }
+
+    /// True when the table holds one boundary per azimuth (several files).
+    pub fn per_azimuth(&self) -> bool {
+        self.parts.len() > 1
+    }
+
+    /// s* of `dir`, if listed (a table of one file; `None` for a table per azimuth, see
+    /// [`BoundaryTable::get_at`]).
+    pub fn get(&self, dir: &Direction) -> Option<Real> {
+        match self.parts.as_slice() {
+            [p] => p.map.get(&key_of(dir)).copied(),
+            _ => None,
+        }
+    }
+
+    /// s* of `dir` at azimuth `azimuth`, if listed: a table of one file serves every azimuth
+    /// (the planning commands refuse, before planning, an azimuth other than that of a
+    /// boundary with gravity); a table per azimuth answers from the file of `azimuth`.
+    pub fn get_at(&self, dir: &Direction, azimuth: Real) -> Option<Real> {
+        match self.parts.as_slice() {
+            [p] => p.map.get(&key_of(dir)).copied(),
+            parts => parts
+                .iter()
+                .find(|p| p.gravity.is_some_and(|(_, a)| same_azimuth(a, azimuth)))
+                .and_then(|p| p.map.get(&key_of(dir)).copied()),
+        }
+    }
+
+    /// The file the table was read from (its first, for a table per azimuth).
+    pub fn path(&self) -> &Path {
+        self.parts.first().map_or(Path::new(""), |p| &p.path)
+    }
+
+    /// The files the table was read from, for messages (`a.csv, b.csv`).
+    pub fn paths_display(&self) -> String {
+        let names: Vec<String> = self
+            .parts
+            .iter()
+            .map(|p| p.path.display().to_string())
+            .collect();
+        names.join(", ")
+    }
+
+    /// Refuse, before any work, a direction set that is not all in the table (a boundary
+    /// computed on other directions): the error names the file, how many directions are missing
+    /// and the first one. Boundary values are never interpolated between directions.
+    pub fn check_covers(&self, dirs: &[Direction]) -> Result<()> {
+        self.parts.iter().try_for_each(|p| p.check_covers(dirs))
+    }
+
+    /// Number of directions listed (of the first file).
+    pub fn len(&self) -> usize {
+        self.parts.first().map_or(0, |p| p.map.len())
+    }
+
+    /// A digest of the table's contents (sorted entries), for the settings record; for a table
+    /// per azimuth, of every file's azimuth and digest.
+    pub fn digest(&self) -> String {
+        match self.parts.as_slice() {
+            [p] => p.digest(),
+            parts => {
+                let each: Vec<String> = parts
+                    .iter()
+                    .map(|p| {
+                        format!(
+                            "{}:{}",
+                            fmt_real(p.gravity.map_or(Real::NAN, |(_, a)| a)),
+                            p.digest()
+                        )
+                    })
+                    .collect();
+                fnv1a_hex(each.join("\n").as_bytes())
+            }
+        }
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl Part {
+    fn read(path: &Path) -> Result<Part> {
         let mut table = crate::io::CsvInput::open(path)?;
         let col = |name: &str| table.column(name, "");
         let cols = [
@@ -96,34 +252,18 @@ impl BoundaryTable {
             }
             map.insert(key_of(&d), v[3]);
         }
-        Ok(BoundaryTable {
+        Ok(Part {
             map,
             path: path.to_path_buf(),
             gravity: sidecar_gravity(path)?,
         })
     }
 
-    /// `(g, azimuth)` when the table was computed with gravity (`boundary --method der
-    /// --gravity`, recorded in its sidecar); `None` for a gravity-free boundary.
-    pub fn gravity(&self) -> Option<(Real, Real)> {
-        self.gravity
-    }
-
-    /// s* of `dir`, if listed.
-    pub fn get(&self, dir: &Direction) -> Option<Real> {
-        self.map.get(&key_of(dir)).copied()
-    }
-
-    /// The file the table was read from.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
-    /// Refuse, before any work, a direction set that is not all in the table (a boundary
-    /// computed on other directions): the error names the file, how many directions are missing
-    /// and the first one. Boundary values are never interpolated between directions.
-    pub fn check_covers(&self, dirs: &[Direction]) -> Result<()> {
-        let missing: Vec<&Direction> = dirs.iter().filter(|d| self.get(d).is_none()).collect();
+    fn check_covers(&self, dirs: &[Direction]) -> Result<()> {
+        let missing: Vec<&Direction> = dirs
+            .iter()
+            .filter(|d| !self.map.contains_key(&key_of(d)))
+            .collect();
         let Some(first) = missing.first() else {
             return Ok(());
         };
@@ -144,13 +284,7 @@ impl BoundaryTable {
         })
     }
 
-    /// Number of directions listed.
-    pub fn len(&self) -> usize {
-        self.map.len()
-    }
-
-    /// A digest of the table's contents (sorted entries), for the settings record.
-    pub fn digest(&self) -> String {
+    fn digest(&self) -> String {
         let mut entries: Vec<String> = self
             .map
             .iter()
@@ -158,11 +292,6 @@ impl BoundaryTable {
             .collect();
         entries.sort();
         fnv1a_hex(entries.join("\n").as_bytes())
-    }
-
-    /// True when empty.
-    pub fn is_empty(&self) -> bool {
-        self.map.is_empty()
     }
 }
 
@@ -203,6 +332,14 @@ fn sidecar_gravity(path: &Path) -> Result<Option<(Real, Real)>> {
 /// s* of `dir`: from `table` when given (a missing direction is an error naming it), else the
 /// continuum conjugate-point test at relative tolerance [`tol::S_STAR_REL`].
 pub fn s_star_of(dir: &Direction, table: Option<&BoundaryTable>) -> Result<Real> {
+    if let Some(t) = table.filter(|t| t.per_azimuth()) {
+        return Err(Error::invalid(
+            "boundary",
+            t.paths_display(),
+            "one boundary per azimuth is used by `reach` (each azimuth planned to its own s*); \
+             this command plans with one s* per direction: give one boundary file",
+        ));
+    }
     match table {
         Some(t) => t.get(dir).ok_or_else(|| {
             Error::invalid(
@@ -213,6 +350,28 @@ pub fn s_star_of(dir: &Direction, table: Option<&BoundaryTable>) -> Result<Real>
         }),
         None => Ok(crate::boundary::continuum::critical_s(dir, tol::S_STAR_REL)?.s_star),
     }
+}
+
+/// `(azimuth, s*)` of `dir` at each of `azimuths` from a table per azimuth
+/// ([`BoundaryTable::get_at`]); an azimuth or direction the table lacks is an error naming
+/// the files.
+pub fn s_star_at(
+    dir: &Direction,
+    table: &BoundaryTable,
+    azimuths: &[Real],
+) -> Result<Vec<(Real, Real)>> {
+    azimuths
+        .iter()
+        .map(|&a| {
+            table.get_at(dir, a).map(|s| (a, s)).ok_or_else(|| {
+                Error::invalid(
+                    "boundary",
+                    format!("({}, {}, {}) at azimuth {a}", dir.kappa, dir.tau, dir.omega),
+                    format!("not listed in {}", table.paths_display()),
+                )
+            })
+        })
+        .collect()
 }
 
 pub use crate::records::fmt_real;
@@ -238,13 +397,27 @@ pub fn reach_one(
     table: Option<&BoundaryTable>,
     opts: &ReachOptions,
 ) -> Result<crate::records::reach::ReachRecord> {
-    let s_star = s_star_of(dir, table)?;
     let kind = if planner.rig().planner.type_dependent() {
         Some(crate::bifurcation::planning_type(dir)?)
     } else {
         None
     };
-    let plan = planner.plan_best_typed(dir, s_star, kind, &opts.azimuths, opts.roll, false)?;
+    let plan = match table.filter(|t| t.per_azimuth()) {
+        Some(t) => {
+            let targets = s_star_at(dir, t, &opts.azimuths)?;
+            planner.plan_best_typed_at(
+                dir,
+                &AzimuthTargets::Each(&targets),
+                kind,
+                opts.roll,
+                false,
+            )?
+        }
+        None => {
+            let s_star = s_star_of(dir, table)?;
+            planner.plan_best_typed(dir, s_star, kind, &opts.azimuths, opts.roll, false)?
+        }
+    };
     Ok(crate::records::reach::ReachRecord::from(&plan))
 }
 

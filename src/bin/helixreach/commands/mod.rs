@@ -134,7 +134,7 @@ pub fn gravity_gate(
         &rig.rod,
         rig_name,
         m,
-        table.and_then(|t| t.gravity()),
+        &table.map(|t| t.gravity()).unwrap_or_default(),
         azimuths,
     )?;
     if g.beyond_margin() {

@@ -12,7 +12,10 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 #[command(after_help = examples!(
     "$ helixreach reach --fibonacci 6 --quarter --out reach.csv",
-    "> helixreach reach --fibonacci 2000 --quarter --roll motor --out reach.csv"
+    "> helixreach reach --fibonacci 2000 --quarter --roll motor --out reach.csv",
+    "> helixreach boundary --method der --gravity --rig my-rig.toml --azimuth 0 --fibonacci 200 --quarter --out b0.csv",
+    "> helixreach boundary --method der --gravity --rig my-rig.toml --azimuth 3.141592653589793 --fibonacci 200 --quarter --out b1.csv",
+    "> helixreach reach --rig my-rig.toml --azimuths 2 --boundary b0.csv --boundary b1.csv --fibonacci 200 --quarter --out reach.csv"
 ))]
 pub struct Args {
     /// Rig: an embedded rig name (`sawyer-seed`, `panda-bench`) or a rig TOML file.
@@ -22,8 +25,10 @@ pub struct Args {
     #[command(flatten)]
     pub dirs: DirectionArgs,
     /// s* per direction from a `helixreach boundary` CSV (default: computed, continuum).
+    /// Repeat it with boundaries computed with gravity, one per azimuth (`boundary --method
+    /// der --gravity --azimuth A`): each azimuth is then planned to its own s*.
     #[arg(long)]
-    pub boundary: Option<PathBuf>,
+    pub boundary: Vec<PathBuf>,
     /// Roll mode (`fixed` or `motor`); default: the rig's.
     #[arg(long)]
     pub roll: Option<RollMode>,
@@ -71,9 +76,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             None => rig.azimuths.clone(),
         },
     };
-    let table = match &args.boundary {
-        Some(p) => Some(BoundaryTable::read(p)?),
-        None => None,
+    let table = match args.boundary.as_slice() {
+        [] => None,
+        files => Some(BoundaryTable::read_per_azimuth(files)?),
     };
     super::gravity_gate(&rig, &args.rig, None, table.as_ref(), &opts.azimuths)?;
     let planner = Planner::new(rig)?;

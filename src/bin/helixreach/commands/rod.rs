@@ -78,7 +78,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             &resolved.rod,
             &resolved.source,
             margin,
-            None,
+            &[],
             &rig.azimuths,
         ) {
             Ok(v) => serde_json::json!({ "verdict": v, "meaning": v.to_string() }),
