@@ -38,6 +38,15 @@ fn seed_rig_with_rod(rod: &str) -> String {
     format!("{}[rod]\n{rod}\n\n{}", &text[..start], &text[end..])
 }
 
+/// The command was refused (exit 2) with every needle in its error.
+fn refused(o: &Output, needles: &[&str]) {
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    for n in needles {
+        assert!(e.contains(n), "{n:?} missing from: {e}");
+    }
+}
+
 fn write_rig(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
@@ -471,13 +480,6 @@ fn planning_commands_use_the_boundary_of_the_rigs_rod() {
         "dir_kappa,dir_tau,dir_omega\n1,1,-1\n0.594,0.698,0.4\n",
     )
     .unwrap();
-    let refused = |o: &Output, needles: &[&str]| {
-        let e = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "{e}");
-        for n in needles {
-            assert!(e.contains(n), "{n:?} missing from: {e}");
-        }
-    };
     let gravity_way_out = ["L_gb/L", "0.50", "--gravity", "--boundary"];
     let r1 = out("r1.csv");
     refused(
@@ -798,13 +800,6 @@ fn reach_with_azimuths_plans_each_azimuth_to_its_own_gravity_boundary() {
         chosen.iter().all(|&n| n > 0),
         "each azimuth must win some ray for the test to discriminate: {chosen:?}"
     );
-    let refused = |res: &Output, needles: &[&str]| {
-        let e = String::from_utf8_lossy(&res.stderr);
-        assert_eq!(res.status.code(), Some(2), "{e}");
-        for n in needles {
-            assert!(e.contains(n), "{n:?} missing from: {e}");
-        }
-    };
     // An azimuth without its boundary.
     refused(&reach(both, &[&b0], "x1.csv").0, &["azimuth", "--boundary"]);
     // The same azimuth twice.

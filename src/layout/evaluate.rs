@@ -190,14 +190,24 @@ impl<'a> Sweep<'a> {
         let (c, d) = *item;
         let dir = &self.dirs[d];
         let s_star = self.s_star[d];
+        // `cause` untyped: it borrows from the placement's slot or is a planner constant.
         let record = |class: &'static str,
                       s_reached: Option<Real>,
                       azimuth: Option<Real>,
                       cause,
                       decided_by: &'static str| {
-            Ok(ray_record(
-                c, dir, class, s_reached, azimuth, cause, s_star, decided_by,
-            ))
+            Ok(RayRecord {
+                candidate: c,
+                dir_kappa: dir.kappa,
+                dir_tau: dir.tau,
+                dir_omega: dir.omega,
+                class,
+                s_reached,
+                azimuth,
+                cause,
+                s_star,
+                decided_by,
+            })
         };
         match self.slot(c)? {
             Slot::OutOfReach => record("unreachable", None, None, "no_ik", "reach_bound"),
@@ -328,30 +338,4 @@ pub fn read_rays(path: &Path, n_candidates: usize, dirs: &[Direction]) -> Result
         });
     }
     Ok(out)
-}
-
-/// The record of one ray (`cause` borrowed from the placement's slot or a planner constant).
-#[allow(clippy::too_many_arguments)]
-fn ray_record<'a>(
-    candidate: usize,
-    dir: &Direction,
-    class: &'static str,
-    s_reached: Option<Real>,
-    azimuth: Option<Real>,
-    cause: &'a str,
-    s_star: Real,
-    decided_by: &'static str,
-) -> RayRecord<'a> {
-    RayRecord {
-        candidate,
-        dir_kappa: dir.kappa,
-        dir_tau: dir.tau,
-        dir_omega: dir.omega,
-        class,
-        s_reached,
-        azimuth,
-        cause,
-        s_star,
-        decided_by,
-    }
 }

@@ -1548,17 +1548,14 @@ pub enum AzimuthTargets<'a> {
 impl AzimuthTargets<'_> {
     /// The `(azimuth, s*)` pairs, in order.
     pub fn iter(&self) -> impl Iterator<Item = (Real, Real)> + '_ {
-        let (same, each): (&[Real], &[(Real, Real)]) = match self {
-            AzimuthTargets::Same(_, a) => (a, &[]),
-            AzimuthTargets::Each(e) => (&[], e),
+        let n = match self {
+            AzimuthTargets::Same(_, a) => a.len(),
+            AzimuthTargets::Each(e) => e.len(),
         };
-        let s = match self {
-            AzimuthTargets::Same(s, _) => *s,
-            AzimuthTargets::Each(_) => Real::NAN,
-        };
-        same.iter()
-            .map(move |&a| (a, s))
-            .chain(each.iter().copied())
+        (0..n).map(move |i| match self {
+            AzimuthTargets::Same(s, a) => (a[i], *s),
+            AzimuthTargets::Each(e) => e[i],
+        })
     }
 }
 

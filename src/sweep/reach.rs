@@ -127,7 +127,7 @@ impl BoundaryTable {
     /// [`BoundaryTable::get_at`]).
     pub fn get(&self, dir: &Direction) -> Option<Real> {
         match self.parts.as_slice() {
-            [p] => p.map.get(&key_of(dir)).copied(),
+            [p] => p.get(dir),
             _ => None,
         }
     }
@@ -137,11 +137,11 @@ impl BoundaryTable {
     /// boundary with gravity); a table per azimuth answers from the file of `azimuth`.
     pub fn get_at(&self, dir: &Direction, azimuth: Real) -> Option<Real> {
         match self.parts.as_slice() {
-            [p] => p.map.get(&key_of(dir)).copied(),
+            [p] => p.get(dir),
             parts => parts
                 .iter()
                 .find(|p| p.gravity.is_some_and(|(_, a)| same_azimuth(a, azimuth)))
-                .and_then(|p| p.map.get(&key_of(dir)).copied()),
+                .and_then(|p| p.get(dir)),
         }
     }
 
@@ -259,11 +259,12 @@ impl Part {
         })
     }
 
+    fn get(&self, dir: &Direction) -> Option<Real> {
+        self.map.get(&key_of(dir)).copied()
+    }
+
     fn check_covers(&self, dirs: &[Direction]) -> Result<()> {
-        let missing: Vec<&Direction> = dirs
-            .iter()
-            .filter(|d| !self.map.contains_key(&key_of(d)))
-            .collect();
+        let missing: Vec<&Direction> = dirs.iter().filter(|d| self.get(d).is_none()).collect();
         let Some(first) = missing.first() else {
             return Ok(());
         };
