@@ -9,7 +9,12 @@
 //! may carry a capsule that contains it (a mesh hull's fitted capsule, under
 //! `primitives_then_hull`): when both parts have a containing capsule (their swept-sphere form,
 //! a rod segment, or a fitted capsule), capsules that do not touch prove the pair free before
-//! parry is asked, and the answer is the same as without them.
+//! parry is asked, and the answer is the same as without them. A cylinder carries the capsule of
+//! its axis and radius (it contains the cylinder). A box first meets a separating-axis test in
+//! its own frame: the other part's containing capsule (or bounding ball) is boxed per axis in
+//! the box's frame (segment ends ± radius), and if that box misses the (padded) box on one of
+//! its three axes the pair is free. Both are broad phases: they only skip pairs that do not
+//! touch, so every answer equals parry's (tests below, against parry alone).
 
 use super::BodyRef;
 use crate::math::{Iso3, Mat3, Real, Vec3};
@@ -58,6 +63,8 @@ pub(super) struct Body {
     /// A capsule containing the shape (owner's frame), tested before the shape: the broad
     /// phase of a mesh hull (`primitives_then_hull`).
     pub(super) fit: Option<Ssv>,
+    /// Half extents of a box shape (in `local`): the separating-axis broad phase.
+    pub(super) cuboid: Option<Vec3>,
     /// Bounding ball: centre in the owner's frame.
     pub(super) center: Vec3,
     /// Bounding ball radius (padding included).
@@ -84,6 +91,13 @@ impl Body {
     pub(super) fn new(owner: Owner, shape: &Shape, origin: &Frame) -> Body {
         // parry cylinders are along y: turn y onto z.
         let y_to_z = Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
+        let axis = |h: Real| {
+            (
+                origin.transform_point(&Vec3::new(0.0, 0.0, -h)),
+                origin.transform_point(&Vec3::new(0.0, 0.0, h)),
+            )
+        };
+        let (mut fit, mut cuboid) = (None, None);
         let (parry, local, ssv) = match *shape {
             Shape::Sphere { radius } => (
                 SharedShape::new(Ball::new(radius)),
@@ -91,22 +105,27 @@ impl Body {
                 Some((origin.pos, origin.pos, radius)),
             ),
             Shape::Box { half_extents } => {
+                cuboid = Some(half_extents);
                 (SharedShape::new(Cuboid::new(half_extents)), *origin, None)
             }
             Shape::Cylinder {
                 radius,
                 half_length,
-            } => (
-                SharedShape::new(Cylinder::new(half_length, radius)),
-                Frame::new(origin.rot * y_to_z, origin.pos),
-                None,
-            ),
+            } => {
+                // The capsule of the axis and the radius contains the cylinder.
+                let (a, b) = axis(half_length);
+                fit = Some((a, b, radius));
+                (
+                    SharedShape::new(Cylinder::new(half_length, radius)),
+                    Frame::new(origin.rot * y_to_z, origin.pos),
+                    None,
+                )
+            }
             Shape::Capsule {
                 radius,
                 half_length,
             } => {
-                let a = origin.transform_point(&Vec3::new(0.0, 0.0, -half_length));
-                let b = origin.transform_point(&Vec3::new(0.0, 0.0, half_length));
+                let (a, b) = axis(half_length);
                 (
                     SharedShape::new(Capsule::new_z(half_length, radius)),
                     *origin,
@@ -119,7 +138,8 @@ impl Body {
             local,
             parry,
             ssv,
-            fit: None,
+            fit,
+            cuboid,
             center: origin.pos,
             radius: shape.bounding_radius(),
             pad: 0.0,
@@ -141,6 +161,7 @@ impl Body {
             parry: SharedShape::new(Capsule::new_z(0.5 * len, r)),
             ssv: Some((a, b, r)),
             fit: None,
+            cuboid: None,
             center: mid,
             radius: 0.5 * len + r,
             pad: 0.0,
@@ -170,6 +191,7 @@ impl Body {
             parry: shape,
             ssv: None,
             fit: None,
+            cuboid: None,
             center: origin.transform_point(&c),
             // Rounding slack: the ball must never be tighter than the hull.
             radius: r * (1.0 + 1e-12) + 1e-12,
@@ -283,6 +305,9 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
         return false;
     }
     let pad = x.pad() + y.pad();
+    if box_separates(x, y) || box_separates(y, x) {
+        return false;
+    }
     if let (Some((a1, b1, r1)), Some((a2, b2, r2))) = (x.capsule(), y.capsule()) {
         // Exact for two swept spheres; else a broad phase (the capsules contain the shapes).
         let rr = r1 + r2 + pad;
@@ -305,6 +330,33 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
             y.with_parry(|i2, s2| query::intersection_test(i1, s1, i2, s2).unwrap_or(true))
         })
     }
+}
+
+/// Whether `x` is a box that a separating axis of its own frame parts from `y` (module docs):
+/// `y`'s containing capsule, or its bounding ball, boxed in `x`'s frame, misses the box grown
+/// by both paddings on one axis. `false` when `x` is not a box.
+#[inline]
+fn box_separates(x: &Part<'_>, y: &Part<'_>) -> bool {
+    let Part::Body(bx, px) = *x else {
+        return false;
+    };
+    let Some(h) = bx.cuboid else {
+        return false;
+    };
+    let (a, b, r) = match y.capsule() {
+        Some((a, b, r)) => (a, b, r + y.pad()),
+        // The bounding ball's radius includes the padding.
+        None => {
+            let (c, r) = y.bound();
+            (c, c, r)
+        }
+    };
+    let rt = px.pose.rot.transpose();
+    let (la, lb) = (rt * (a - px.pose.pos), rt * (b - px.pose.pos));
+    (0..3).any(|k| {
+        let e = h[k] + bx.pad + r;
+        la[k].min(lb[k]) > e || la[k].max(lb[k]) < -e
+    })
 }
 
 /// Distance between two posed parts (m; 0 when touching or overlapping).
@@ -380,4 +432,105 @@ pub fn segment_distance_squared(p1: &Vec3, q1: &Vec3, p2: &Vec3, q2: &Vec3) -> R
     let c1 = p1 + d1 * s;
     let c2 = p2 + d2 * t;
     (c1 - c2).norm_squared()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    fn random_frame(rng: &mut impl Rng) -> Frame {
+        let rot = nalgebra::Rotation3::from_euler_angles(
+            rng.random_range(-3.2..3.2),
+            rng.random_range(-1.6..1.6),
+            rng.random_range(-3.2..3.2),
+        )
+        .into_inner();
+        let pos = Vec3::new(
+            rng.random_range(-0.4..0.4),
+            rng.random_range(-0.4..0.4),
+            rng.random_range(-0.4..0.4),
+        );
+        Frame::new(rot, pos)
+    }
+
+    fn random_shape(rng: &mut impl Rng) -> Shape {
+        let d: [Real; 3] = std::array::from_fn(|_| rng.random_range(0.005..0.3));
+        match rng.random_range(0..4) {
+            0 => Shape::Sphere { radius: d[0] },
+            1 => Shape::Box {
+                half_extents: Vec3::new(d[0], d[1], 0.2 * d[2]),
+            },
+            2 => Shape::Cylinder {
+                radius: d[0],
+                half_length: d[1],
+            },
+            _ => Shape::Capsule {
+                radius: d[0],
+                half_length: d[1],
+            },
+        }
+    }
+
+    /// parry alone on the parts (no broad phase): the reference of [`intersects`].
+    fn parry_intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
+        let pad = x.pad() + y.pad();
+        x.with_parry(|i1, s1| {
+            y.with_parry(|i2, s2| {
+                if pad > 0.0 {
+                    !matches!(
+                        query::closest_points(i1, s1, i2, s2, pad),
+                        Ok(query::ClosestPoints::Disjoint)
+                    )
+                } else {
+                    query::intersection_test(i1, s1, i2, s2).unwrap()
+                }
+            })
+        })
+    }
+
+    /// The broad phases (bounding balls, containing capsules of cylinders, the box-frame
+    /// separating axes) never change an answer: random boxes, cylinders, capsules, spheres and
+    /// rod segments, padded and not, against parry's exact test; both answers occur often.
+    #[test]
+    fn broad_phases_agree_with_parry() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let (mut hits, mut misses, mut boxed) = (0, 0, 0);
+        for k in 0..20_000 {
+            let owner = Owner::Obstacle(0);
+            let (fx, fy) = (random_frame(&mut rng), random_frame(&mut rng));
+            let (sx, sy) = (random_shape(&mut rng), random_shape(&mut rng));
+            let pad = if k % 3 == 0 {
+                rng.random_range(0.0..0.05)
+            } else {
+                0.0
+            };
+            let bx = Body::new(owner, &sx, &fx).padded(pad);
+            let by = Body::new(owner, &sy, &fy);
+            let at = random_frame(&mut rng);
+            let (mut px, mut py) = (Posed::default(), Posed::default());
+            bx.pose(&at, &mut px);
+            by.pose(&at, &mut py);
+            let x = Part::Body(&bx, &px);
+            let y = if k % 5 == 0 {
+                let a = random_frame(&mut rng).pos;
+                Part::Segment(a, a + 0.5 * random_frame(&mut rng).pos, 0.01)
+            } else {
+                Part::Body(&by, &py)
+            };
+            boxed += usize::from(bx.cuboid.is_some() || by.cuboid.is_some());
+            let want = parry_intersects(&x, &y);
+            assert_eq!(intersects(&x, &y), want, "{k}: {sx:?} {sy:?} pad {pad}");
+            assert_eq!(intersects(&y, &x), want, "{k} (swapped)");
+            if want {
+                hits += 1;
+            } else {
+                misses += 1;
+            }
+        }
+        assert!(
+            hits > 2_000 && misses > 2_000 && boxed > 5_000,
+            "{hits} {misses} {boxed}"
+        );
+    }
 }
