@@ -492,7 +492,7 @@ impl<'a> IkSolver<'a> {
         let n = self.model.dof();
         let chain = self.model.chain();
         let (tp, ta) = (self.params.position_tolerance, self.params.angle_tolerance);
-        let mut jac = Jacobian::zeros();
+        let (mut jac, mut jac_n) = (Jacobian::zeros(), Jacobian::zeros());
         let mut tool = chain.jacobian(&q[..n], &mut jac);
         let mut e = target.residual(&tool, Some(&mut jac));
         let mut err2 = e.norm_squared();
@@ -580,12 +580,14 @@ impl<'a> IkSolver<'a> {
                     qn[i] = (q[i] + dq[i]).clamp(self.lower[i], self.upper[i]);
                 }
             }
-            let tool_n = chain.tool_pose(&qn[..n]);
+            // The trial's Jacobian with its pose (one FK pass): most trials are accepted.
+            let tool_n = chain.jacobian(&qn[..n], &mut jac_n);
             let en = target.residual(&tool_n, None);
             let err2n = en.norm_squared();
             if err2n < err2 {
                 q = qn;
-                tool = chain.jacobian(&q[..n], &mut jac);
+                tool = tool_n;
+                jac = jac_n;
                 e = target.residual(&tool, Some(&mut jac));
                 err2 = e.norm_squared();
                 lambda = (lambda * 0.2).max(LM_LAMBDA_MIN);

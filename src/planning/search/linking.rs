@@ -66,6 +66,8 @@ pub(crate) struct Linker<'a> {
     ws: CollisionWorkspace,
     jac: Jacobian,
     step: Real,
+    /// The last walked configuration and its null direction: a node's two walks (±) share it.
+    null: Option<(Q, Q)>,
 }
 
 impl<'a> Linker<'a> {
@@ -78,6 +80,7 @@ impl<'a> Linker<'a> {
             ws: planner.collision.workspace(),
             jac: Jacobian::zeros(),
             step: planner.rig.planner.self_motion_step,
+            null: None,
         })
     }
 
@@ -189,11 +192,19 @@ impl<'a> Linker<'a> {
     ) -> Option<Q> {
         let q = &x.q;
         let dof = self.planner.dof;
-        self.planner
-            .model
-            .chain()
-            .jacobian(&q[..dof], &mut self.jac);
-        let n = fast_null_direction(&self.jac, dof).or_else(|| null_direction(&self.jac, dof))?;
+        let n = match self.null {
+            Some((at, n)) if at == *q => n,
+            _ => {
+                self.planner
+                    .model
+                    .chain()
+                    .jacobian(&q[..dof], &mut self.jac);
+                let n = fast_null_direction(&self.jac, dof)
+                    .or_else(|| null_direction(&self.jac, dof))?;
+                self.null = Some((*q, n));
+                n
+            }
+        };
         let bound = self.planner.rig.planner.max_joint_step;
         let mut h = self.step;
         while h >= WALK_MIN_STEP {
