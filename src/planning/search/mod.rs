@@ -73,7 +73,7 @@
 //! slice of the pieces it visits; the move back to a node's parent slice is its own edge, not
 //! tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
 //! ray costs its reachable piece, or the far piece if that one is exhausted first: cheap when
-//! either is small, 120,000–230,000 nodes (2–4 s) when both are large regions of the strip
+//! either is small, 120,000–230,000 nodes (1–2 s, ≈ 8.5 µs per node) when both are large regions of the strip
 //! below s* (different self-motion families); those few rays dominate a sweep's CPU.
 //! Figures: `docs/RESULTS.md`.
 
