@@ -40,7 +40,7 @@
 use super::linking::{Config, Linker, Move, ROLL_STEP};
 use crate::math::Real;
 use crate::planning::ladder::CauseCounts;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 /// Two configurations of one slice closer than this fraction of the walk step (every joint; and
 /// of the roll step in ψ) are one node.
@@ -52,8 +52,15 @@ const LOAD: u8 = 2;
 const INSIDE: u8 = 1;
 const BACK: u8 = 0;
 
-/// Bytes per node, for the memory bound's message (node, bucket entry, queue entry).
+/// Bytes per node, for the memory bound's message (node, bucket link, queue entry).
 pub(crate) const NODE_BYTES: usize = 112;
+
+/// Most buckets of the redundancy joint per slice: a finer merge radius gets wider buckets
+/// (never narrower than the radius, so a lookup scans three).
+const MAX_BUCKETS: usize = 1024;
+
+/// No node.
+const NONE: u32 = u32::MAX;
 
 /// How a node was reached.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -107,7 +114,15 @@ pub(crate) struct Rules {
 pub(crate) struct Graph {
     /// Nodes in insertion order.
     pub nodes: Vec<Node>,
-    buckets: HashMap<(u32, i64), Vec<u32>>,
+    /// Per slice: the last node inserted in each bucket of the redundancy joint (empty until
+    /// the slice gets a node; `NONE` for an empty bucket).
+    heads: Vec<Vec<u32>>,
+    /// Per node: the node inserted before it in its bucket (`NONE` for the first).
+    next: Vec<u32>,
+    /// Lower end and width of the redundancy joint's buckets, and their number.
+    red_lo: Real,
+    width: Real,
+    n_buckets: usize,
     queue: BinaryHeap<(bool, u32, u8, u32)>,
     /// Per node: on a probe chain (a probe start and its load steps).
     probe: Vec<bool>,
@@ -138,11 +153,24 @@ pub(crate) enum Direction {
 }
 
 impl Graph {
-    /// An empty graph for `n_slices` slices of a `dof`-joint arm, bucketed on joint `red`.
-    pub fn new(n_slices: usize, dof: usize, red: usize, merge_q: Real) -> Graph {
+    /// An empty graph for `n_slices` slices of a `dof`-joint arm, bucketed on joint `red`
+    /// whose range is `red_range`.
+    pub fn new(
+        n_slices: usize,
+        dof: usize,
+        red: usize,
+        red_range: (Real, Real),
+        merge_q: Real,
+    ) -> Graph {
+        let span = (red_range.1 - red_range.0).max(0.0);
+        let width = merge_q.max(span / MAX_BUCKETS as Real);
         Graph {
             nodes: Vec::new(),
-            buckets: HashMap::new(),
+            heads: vec![Vec::new(); n_slices],
+            next: Vec::new(),
+            red_lo: red_range.0,
+            width,
+            n_buckets: ((span / width).floor() as usize + 1).min(MAX_BUCKETS + 1),
             queue: BinaryHeap::new(),
             probe: Vec::new(),
             probing: 0,
@@ -155,25 +183,35 @@ impl Graph {
         }
     }
 
-    fn key(&self, c: &Config) -> (u32, i64) {
-        (c.slice, (c.q[self.red] / self.merge_q).floor() as i64)
+    /// The bucket of `c`'s redundancy joint (joints stay in their limits; round-off is
+    /// clamped into the end buckets).
+    fn bucket(&self, c: &Config) -> usize {
+        let k = ((c.q[self.red] - self.red_lo) / self.width).floor();
+        if k >= 0.0 {
+            (k as usize).min(self.n_buckets - 1)
+        } else {
+            0
+        }
     }
 
     /// The node of `c`'s slice within the merge radius of `c`, if any.
     pub fn find(&self, c: &Config) -> Option<u32> {
-        let (s, k) = self.key(c);
+        let row = self.heads.get(c.slice as usize)?;
+        if row.is_empty() {
+            return None;
+        }
+        let k = self.bucket(c);
         let rpsi = MERGE_FRACTION * ROLL_STEP;
-        for kk in k - 1..=k + 1 {
-            let Some(ids) = self.buckets.get(&(s, kk)) else {
-                continue;
-            };
-            for &id in ids {
+        for kk in k.saturating_sub(1)..=(k + 1).min(self.n_buckets - 1) {
+            let mut id = row[kk];
+            while id != NONE {
                 let o = &self.nodes[id as usize].c;
                 if (o.psi - c.psi).abs() <= rpsi
                     && (0..self.dof).all(|j| (o.q[j] - c.q[j]).abs() <= self.merge_q)
                 {
                     return Some(id);
                 }
+                id = self.next[id as usize];
             }
         }
         None
@@ -193,8 +231,14 @@ impl Graph {
 
     fn insert_as(&mut self, n: Node, probe: bool) -> u32 {
         let id = self.nodes.len() as u32;
-        let key = self.key(&n.c);
-        self.buckets.entry(key).or_default().push(id);
+        let k = self.bucket(&n.c);
+        let nb = self.n_buckets;
+        let row = &mut self.heads[n.c.slice as usize];
+        if row.is_empty() {
+            row.resize(nb, NONE);
+        }
+        self.next.push(row[k]);
+        row[k] = id;
         self.farthest = self.farthest.max(n.c.slice);
         self.queue.push((probe, n.c.slice, LOAD, id));
         self.probing += usize::from(probe);
@@ -284,6 +328,7 @@ impl Graph {
             Via::Load | Via::Backoff => Some(self.nodes[n.parent as usize].c.slice),
             Via::Start | Via::Reconfigure => None,
         };
+        let prev = (n.parent != u32::MAX).then(|| self.nodes[n.parent as usize].c);
         for &mv in &moves[..n_moves] {
             let to = match mv {
                 Move::Load => Some(slice + 1),
@@ -294,7 +339,7 @@ impl Graph {
                 continue;
             }
             let counted = dir == Direction::Forward && mv == Move::Load;
-            let y = match linker.propose(&x, mv, &|c| self.find(c).is_some()) {
+            let y = match linker.propose(&x, mv, prev.as_ref(), &|c| self.find(c).is_some()) {
                 Ok(Some(y)) => y,
                 Ok(None) => continue,
                 Err(cause) => {
@@ -334,5 +379,76 @@ impl Graph {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The bucketed lookup equals a linear scan of the slice's nodes (the merge rule of the
+    /// module docs), for configurations near stored ones, at bucket edges and at the ends of
+    /// the redundancy joint's range (values at and just past the limits), with a merge radius
+    /// finer than `MAX_BUCKETS` buckets can cover (wider buckets).
+    #[test]
+    fn find_equals_a_linear_scan() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for (merge_q, range) in [
+            (0.012, (-3.05, 3.05)),
+            (1e-4, (-3.05, 3.05)),
+            (0.3, (0.0, 1.0)),
+        ] {
+            let mut g = Graph::new(4, 7, 0, range, merge_q);
+            let draw = |rng: &mut ChaCha8Rng| {
+                let mut q = [0.0; crate::robot::MAX_DOF];
+                // Joint 0 often on a bucket edge or a limit; the others in a small box so that
+                // merges happen.
+                q[0] = match rng.random_range(0..4) {
+                    0 => range.0 + merge_q * rng.random_range(0..40) as Real,
+                    1 => range.1 - 1e-12,
+                    2 => range.0,
+                    _ => rng.random_range(range.0..range.1),
+                };
+                for v in q.iter_mut().skip(1) {
+                    *v = rng.random_range(-0.05..0.05);
+                }
+                Config {
+                    slice: rng.random_range(0..4),
+                    q,
+                    psi: 0.0,
+                }
+            };
+            let scan = |g: &Graph, c: &Config| {
+                g.nodes.iter().any(|n| {
+                    n.c.slice == c.slice && (0..7).all(|j| (n.c.q[j] - c.q[j]).abs() <= merge_q)
+                })
+            };
+            for _ in 0..3000 {
+                let c = draw(&mut rng);
+                let found = g.find(&c);
+                assert_eq!(found.is_some(), scan(&g, &c), "{c:?}");
+                if let Some(id) = found {
+                    let o = &g.nodes[id as usize].c;
+                    assert_eq!(o.slice, c.slice);
+                    assert!((0..7).all(|j| (o.q[j] - c.q[j]).abs() <= merge_q));
+                } else {
+                    g.insert(Node {
+                        c,
+                        parent: u32::MAX,
+                        via: Via::Start,
+                    });
+                }
+                // A configuration just inside the merge radius of a stored one is found.
+                let k = rng.random_range(0..g.nodes.len());
+                let mut near = g.nodes[k].c;
+                for v in near.q.iter_mut().take(7) {
+                    *v += rng.random_range(-0.99..0.99) * merge_q;
+                }
+                assert_eq!(g.find(&near).is_some(), scan(&g, &near));
+                assert!(g.find(&near).is_some());
+            }
+        }
     }
 }

@@ -4,7 +4,11 @@
 //! - **Load** (to slice i + 1) and **back-off** (to slice i − 1): one minimum-norm
 //!   Levenberg–Marquardt run ([`IkSolver::track`]) from q to the neighbouring slice's pose at the
 //!   same roll ψ. Minimum-norm steps follow the self-motion curve continuously, so the tracked
-//!   point is the continuation of x's piece of the valid set.
+//!   point is the continuation of x's piece of the valid set. When x was itself reached across
+//!   slices from p on the other side, the run starts from the linear extrapolation
+//!   `q + r·(q − q_p)` (r the ratio of the two steps in s, at most 2), within O(step²) of the
+//!   solution, and falls back to q when that run fails; the runs start undamped
+//!   (`TRACK_DAMPING`).
 //! - **Walk** (inside slice i, roll held; 7-DOF arms): one predictor–corrector step along the
 //!   self-motion curve of the held pose in either direction, predictor `q ± h·n̂` (n̂ the
 //!   cofactor null direction of the Jacobian, max-norm 1; h = `planner.self_motion_step`, halved
@@ -25,10 +29,15 @@ use crate::planning::ladder::BlockCause;
 use crate::planning::planner::Planner;
 use crate::planning::self_motion::{null_direction, Q};
 use crate::planning::witness::WALK_MIN_STEP;
-use crate::robot::{CollisionWorkspace, IkSolver, IkTarget, Jacobian};
+use crate::robot::{CollisionWorkspace, IkParams, IkSolver, IkTarget, Jacobian};
 
 /// Roll step of the moves inside a slice in roll `motor` (rad).
 pub(crate) const ROLL_STEP: Real = 0.05;
+
+/// Initial Levenberg–Marquardt damping of the tracks ([`IkParams::initial_damping`]): every
+/// track starts within one slice or walk step of its solution, where the undamped
+/// (Gauss–Newton) step converges quadratically; rejected steps raise it.
+const TRACK_DAMPING: Real = 1e-7;
 
 /// Least |det A| (m³: three rows of `J` in m) at which [`fast_null_direction`] trusts its one
 /// solve; nearer singular it defers to the seven minors.
@@ -76,7 +85,13 @@ impl<'a> Linker<'a> {
         Ok(Linker {
             planner,
             slices,
-            solver: IkSolver::new(&planner.model, planner.ik.clone())?,
+            solver: IkSolver::new(
+                &planner.model,
+                IkParams {
+                    initial_damping: TRACK_DAMPING,
+                    ..planner.ik.clone()
+                },
+            )?,
             ws: planner.collision.workspace(),
             jac: Jacobian::zeros(),
             step: planner.rig.planner.self_motion_step,
@@ -112,6 +127,7 @@ impl<'a> Linker<'a> {
         &mut self,
         x: &Config,
         mv: Move,
+        prev: Option<&Config>,
         known: &dyn Fn(&Config) -> bool,
     ) -> std::result::Result<Option<Config>, BlockCause> {
         let i = x.slice as usize;
@@ -130,7 +146,14 @@ impl<'a> Linker<'a> {
                 None => return Ok(None),
             }
         } else {
-            match self.track(&target, &x.q) {
+            let seed = prev.and_then(|p| self.extrapolate(p, x, slice));
+            let tracked = match seed {
+                Some(sd) => self
+                    .track(&target, &sd)
+                    .or_else(|| self.track(&target, &x.q)),
+                None => self.track(&target, &x.q),
+            };
+            match tracked {
                 Some(q) => q,
                 None => {
                     let (lo, hi) = (self.planner.model.lower(), self.planner.model.upper());
@@ -155,6 +178,25 @@ impl<'a> Linker<'a> {
             q,
             psi,
         }))
+    }
+
+    /// The seed of a track from `x` to slice `to` when `x` was reached from `p` on the other
+    /// side: `x.q + r·(x.q − p.q)`, r the ratio of the two steps in s (clamped to [0, 2]).
+    fn extrapolate(&self, p: &Config, x: &Config, to: usize) -> Option<Q> {
+        let (ps, xs) = (p.slice as usize, x.slice as usize);
+        if ps + to != 2 * xs || p.psi != x.psi {
+            return None;
+        }
+        let w = &self.slices.wps;
+        let r = ((w[to].s - w[xs].s) / (w[xs].s - w[ps].s)).clamp(0.0, 2.0);
+        if !r.is_finite() {
+            return None;
+        }
+        let mut q = x.q;
+        for j in 0..self.planner.dof {
+            q[j] += r * (x.q[j] - p.q[j]);
+        }
+        Some(q)
     }
 
     /// The collision tests of the edge x → y: y itself, then the joint-linear segment.

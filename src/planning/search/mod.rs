@@ -20,14 +20,15 @@
 //!   on a 0.05 rad grid, 4 seeds each, 40 random restarts, tracks from slice F), or
 //! - the **far-end search** is exhausted: once the probe chains are done and every node of
 //!   slice F is expanded, a reverse search starts from the valid set of slice F + 1 (the same
-//!   IK sampling) along reversed edges, never above F + 1, one expansion per
-//!   `FORWARD_PER_REVERSE` (3) of the forward search (on rays with two large pieces the forward
-//!   search usually exhausts first). If it exhausts without meeting a forward node (a
+//!   IK sampling) along reversed edges, never above F + 1: one expansion per step of the forward
+//!   search while it has fewer than `REVERSE_HEAD_START` (256) nodes, then one per
+//!   `FORWARD_PER_REVERSE` (7) (on rays with two large pieces the forward search exhausts
+//!   first and pays one eighth more). If it exhausts without meeting a forward node (a
 //!   configuration within the merge radius) and without reaching s = 0 (every valid
 //!   straight-rod configuration belongs to the start set's components), no path from a start
-//!   reaches slice F + 1, so F is final. A dead end behind a small far piece is proven at a few
-//!   times the cost of that piece, not of the whole strip. If it meets the forward piece, it is
-//!   dropped and the forward search goes on.
+//!   reaches slice F + 1, so F is final. A dead end behind a small far piece is proven at about
+//!   its own cost (eight times it beyond the head start), not the whole strip's. If it meets
+//!   the forward piece, it is dropped and the forward search goes on.
 //!
 //! # Resolution (what the answer is exact at)
 //! - **Slices**: the rig's pose-path waypoints (`planner.max_end_step`,
@@ -63,15 +64,17 @@
 //! it is tested per direction rather than built in.
 //!
 //! # Bounds
-//! At most `planner.max_search_nodes` nodes per ray (≈ 112 bytes each); a search that needs
+//! At most `planner.max_search_nodes` nodes per ray (≈ 112 bytes each, and at most 4 KB of
+//! bucket heads per slice a node lies on); a search that needs
 //! more reports the ray `undecided` ([`ReachClass::Undecided`]) with the farthest s found, never
 //! a guessed class. A rig whose self-motion step would need more nodes than the bound to cover
 //! one slice is refused when the planner is made ([`check_resolution`]).
 //!
 //! # Cost
-//! A ray costs its nodes × about 3 tracks and 6 collision tests (a node per self-motion step per
-//! slice of the pieces it visits; the move back to a node's parent slice is its own edge, not
-//! tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
+//! A ray costs its nodes × about 1.5 tracks (≈ 3 Jacobian evaluations each) and 3 collision
+//! tests (a node per self-motion step per slice of the pieces it visits, most made by a back-off
+//! or load step from the neighbouring slice; the move back to a node's parent slice is its own
+//! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
 //! ray costs its reachable piece, or the far piece if that one is exhausted first: cheap when
 //! either is small, 120,000–230,000 nodes (1–2 s, ≈ 8.5 µs per node) when both are large regions of the strip
 //! below s* (different self-motion families); those few rays dominate a sweep's CPU.
@@ -103,7 +106,11 @@ const LOCK_GRID: Real = 0.05;
 const PROBES: usize = 2;
 
 /// Forward expansions per expansion of the far-end search.
-const FORWARD_PER_REVERSE: u32 = 3;
+const FORWARD_PER_REVERSE: u32 = 7;
+
+/// Far-end searches smaller than this many nodes expand at every step of the forward search
+/// (a small far piece is proven at once).
+const REVERSE_HEAD_START: usize = 256;
 
 /// Random restarts of the far-end slice's IK.
 const CERT_RESTARTS: usize = 40;
@@ -201,7 +208,13 @@ impl Planner {
                 && !fwd.probing()
                 && fwd.top().is_some_and(|t| t < f)
             {
-                let mut b = Graph::new(slices.len(), self.dof, self.red_joint, fwd.merge_q());
+                let mut b = Graph::new(
+                    slices.len(),
+                    self.dof,
+                    self.red_joint,
+                    self.red_range(),
+                    fwd.merge_q(),
+                );
                 for c in self.slice_configs(slices, linker, f + 1, roll, fwd)? {
                     if b.find(&c).is_none() {
                         b.insert(Node {
@@ -222,7 +235,11 @@ impl Planner {
                 }
             }
             tick = tick.wrapping_add(1);
-            if let Some((cf, b)) = cert.as_mut().filter(|_| tick % FORWARD_PER_REVERSE == 0) {
+            let turn = tick % FORWARD_PER_REVERSE == 0;
+            if let Some((cf, b)) = cert
+                .as_mut()
+                .filter(|(_, b)| turn || b.nodes.len() < REVERSE_HEAD_START)
+            {
                 let cap = *cf + 1;
                 match b.step(linker, rules, 0, Direction::Reverse { cap }, backoff_ok) {
                     // Nothing of the forward piece reaches slice cap: its farthest is final.
@@ -245,6 +262,14 @@ impl Planner {
                 }
             }
         }
+    }
+
+    /// The limits of the redundancy joint (the search graph's buckets).
+    fn red_range(&self) -> (Real, Real) {
+        (
+            self.model.lower()[self.red_joint],
+            self.model.upper()[self.red_joint],
+        )
     }
 
     /// Valid configurations of slice `j` on every IK branch: the redundancy joint locked on a
@@ -370,7 +395,13 @@ impl Planner {
         let settings = &self.rig.planner;
         let merge_q = MERGE_FRACTION * settings.self_motion_step;
         let mut linker = Linker::new(self, &slices)?;
-        let mut graph = Graph::new(slices.len(), self.dof, self.red_joint, merge_q);
+        let mut graph = Graph::new(
+            slices.len(),
+            self.dof,
+            self.red_joint,
+            self.red_range(),
+            merge_q,
+        );
         // Probe chains first: the last start (the first expanded) and the first `PROBES` of
         // each start component (spread over it: farthest-point order).
         let n_starts: usize = set.comps.iter().map(Vec::len).sum();
