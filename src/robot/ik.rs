@@ -661,7 +661,10 @@ mod tests {
                 initial_damping: bad,
                 ..IkParams::default()
             };
-            let e = IkSolver::new(&model, p).err().expect("refused").to_string();
+            let Err(e) = IkSolver::new(&model, p) else {
+                panic!("initial_damping {bad} accepted");
+            };
+            let e = e.to_string();
             assert!(e.contains("ik.initial_damping"), "{e}");
         }
         let damped = IkSolver::new(&model, IkParams::default()).unwrap();
