@@ -1034,7 +1034,8 @@ impl Planner {
             return Ok(plan);
         }
         let mut sc = self.new_scratch();
-        let solver = IkSolver::new(&self.model, self.ik.clone())?;
+        // Rungs, advances and self-motion walks only track from nearby configurations.
+        let solver = IkSolver::new(&self.model, self.ik.clone().tracking())?;
         let mut ladder: Ladder<Node> = Ladder::new();
         ladder.push_first(start.to_vec());
         let map = PoseMap::new(&self.rig, azimuth);

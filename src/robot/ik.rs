@@ -55,6 +55,10 @@ const LOG_NEAR_PI: Real = 1e-4;
 /// Levenberg–Marquardt damping at the start of a solve (dimensionless, on JᵀJ's scale): the
 /// default of [`IkParams::initial_damping`].
 pub const LM_LAMBDA_START: Real = 1e-3;
+/// Initial damping of solvers that only track ([`IkParams::tracking`]): every run starts
+/// within one small step of its solution, where the undamped (Gauss–Newton) step converges
+/// quadratically; a rejected step raises it ×8.
+pub const TRACK_DAMPING: Real = 1e-7;
 /// Least Levenberg–Marquardt damping after successful steps.
 const LM_LAMBDA_MIN: Real = 1e-14;
 /// Limit weighting: the distance (rad) to a joint limit is at least this (the weight stays
@@ -278,6 +282,20 @@ impl Default for IkParams {
 }
 
 impl IkParams {
+    /// The same settings for a solver used only by [`IkSolver::track`] from nearby seeds (a
+    /// waypoint or self-motion step away): `initial_damping` = [`TRACK_DAMPING`].
+    ///
+    /// ```
+    /// use helixreach::robot::ik::{IkParams, TRACK_DAMPING};
+    /// assert_eq!(IkParams::default().tracking().initial_damping, TRACK_DAMPING);
+    /// ```
+    pub fn tracking(self) -> Self {
+        IkParams {
+            initial_damping: TRACK_DAMPING,
+            ..self
+        }
+    }
+
     /// The defaults without a redundancy joint: every joint free, a plain pose solve or track
     /// from a seed (how the seed-run witness corrects recorded rows onto our pose).
     pub fn without_redundancy() -> Self {
@@ -668,14 +686,7 @@ mod tests {
             assert!(e.contains("ik.initial_damping"), "{e}");
         }
         let damped = IkSolver::new(&model, IkParams::default()).unwrap();
-        let undamped = IkSolver::new(
-            &model,
-            IkParams {
-                initial_damping: 1e-7,
-                ..IkParams::default()
-            },
-        )
-        .unwrap();
+        let undamped = IkSolver::new(&model, IkParams::default().tracking()).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let (mut it_d, mut it_u, mut n) = (0usize, 0usize, 0usize);
         for _ in 0..300 {

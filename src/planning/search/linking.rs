@@ -8,7 +8,7 @@
 //!   slices from p on the other side, the run starts from the linear extrapolation
 //!   `q + r·(q − q_p)` (r the ratio of the two steps in s, at most 2), within O(step²) of the
 //!   solution, and falls back to q when that run fails; the runs start undamped
-//!   (`TRACK_DAMPING`).
+//!   ([`crate::robot::IkParams::tracking`]).
 //! - **Walk** (inside slice i, roll held; 7-DOF arms): one predictor–corrector step along the
 //!   self-motion curve of the held pose in either direction, predictor `q ± h·n̂` (n̂ the
 //!   cofactor null direction of the Jacobian, max-norm 1; h = `planner.self_motion_step`, halved
@@ -29,15 +29,10 @@ use crate::planning::ladder::BlockCause;
 use crate::planning::planner::Planner;
 use crate::planning::self_motion::{null_direction, Q};
 use crate::planning::witness::WALK_MIN_STEP;
-use crate::robot::{CollisionWorkspace, IkParams, IkSolver, IkTarget, Jacobian};
+use crate::robot::{CollisionWorkspace, IkSolver, IkTarget, Jacobian};
 
 /// Roll step of the moves inside a slice in roll `motor` (rad).
 pub(crate) const ROLL_STEP: Real = 0.05;
-
-/// Initial Levenberg–Marquardt damping of the tracks ([`IkParams::initial_damping`]): every
-/// track starts within one slice or walk step of its solution, where the undamped
-/// (Gauss–Newton) step converges quadratically; rejected steps raise it.
-const TRACK_DAMPING: Real = 1e-7;
 
 /// Least |det A| (m³: three rows of `J` in m) at which [`fast_null_direction`] trusts its one
 /// solve; nearer singular it defers to the seven minors.
@@ -85,13 +80,7 @@ impl<'a> Linker<'a> {
         Ok(Linker {
             planner,
             slices,
-            solver: IkSolver::new(
-                &planner.model,
-                IkParams {
-                    initial_damping: TRACK_DAMPING,
-                    ..planner.ik.clone()
-                },
-            )?,
+            solver: IkSolver::new(&planner.model, planner.ik.clone().tracking())?,
             ws: planner.collision.workspace(),
             jac: Jacobian::zeros(),
             step: planner.rig.planner.self_motion_step,
