@@ -94,6 +94,8 @@ pub struct Contact {
 pub struct CollisionWorkspace {
     frames: Vec<Frame>,
     posed: Vec<Posed>,
+    /// The last rod's segments and chunk balls (rebuilt when the rod changes).
+    rod: std::cell::RefCell<walk::RodChunks>,
 }
 
 /// The collision model of a robot plus its scene (see the module docs). Immutable, `Send + Sync`.
@@ -346,6 +348,7 @@ impl CollisionModel {
         CollisionWorkspace {
             frames: vec![Frame::identity(); self.chain.n_links()],
             posed: vec![Posed::default(); self.bodies.len()],
+            rod: Default::default(),
         }
     }
 

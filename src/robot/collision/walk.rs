@@ -99,6 +99,57 @@ fn rod_segments<'r>(rod: &RodGeometry<'r>) -> impl Iterator<Item = (usize, Vec3,
     })
 }
 
+/// The rod's checked segments and their chunk balls ([`CollisionModel::walk_rod`]), kept in the
+/// workspace and rebuilt only when the rod changes (its nodes, radius or ignored ends): the
+/// planners check many configurations against one rod. Pose-independent.
+#[derive(Clone, Debug, Default)]
+pub(super) struct RodChunks {
+    /// The rod they were built for: nodes, radius, ignored arc lengths (clamp, tool).
+    nodes: Vec<Vec3>,
+    params: [Real; 3],
+    built: bool,
+    /// Checked segments `(index, start, end)` in walk order.
+    segments: Vec<(usize, Vec3, Vec3)>,
+    /// Per chunk of `ROD_CHUNK` consecutive checked segments: the centre and radius of a ball
+    /// holding the chunk's segment balls, and the end of the chunk in `segments`.
+    balls: Vec<(Vec3, Real, usize)>,
+}
+
+impl RodChunks {
+    /// Build for `rod` unless already built for it (no allocation once the buffers have grown
+    /// to the rod's size).
+    fn prepare(&mut self, rod: &RodGeometry<'_>) {
+        let params = [rod.radius, rod.ignore_near_clamp, rod.ignore_near_tool];
+        if self.built && self.params == params && self.nodes.as_slice() == rod.nodes {
+            return;
+        }
+        self.nodes.clear();
+        self.nodes.extend_from_slice(rod.nodes);
+        self.params = params;
+        self.segments.clear();
+        self.segments.extend(rod_segments(rod));
+        self.balls.clear();
+        for (k, chunk) in self.segments.chunks(ROD_CHUNK).enumerate() {
+            // Centre of the end points' box, radius covering every segment ball (centre at the
+            // midpoint, radius r + half the length), plus a rounding slack.
+            let (mut lo, mut hi) = (chunk[0].1, chunk[0].1);
+            for &(_, a, b) in chunk {
+                lo = lo.inf(&a.inf(&b));
+                hi = hi.sup(&a.sup(&b));
+            }
+            let c = 0.5 * (lo + hi);
+            let r = chunk
+                .iter()
+                .map(|&(_, a, b)| (0.5 * (a + b) - c).norm() + 0.5 * (b - a).norm())
+                .fold(0.0, Real::max)
+                + rod.radius
+                + CHUNK_SLACK;
+            self.balls.push((c, r, k * ROD_CHUNK + chunk.len()));
+        }
+        self.built = true;
+    }
+}
+
 impl CollisionModel {
     /// Self pairs.
     pub(super) fn walk_self<V: Visit>(
@@ -158,29 +209,10 @@ impl CollisionModel {
             }
             return ControlFlow::Continue(());
         }
-        let mut chunk = [(0usize, Vec3::zeros(), Vec3::zeros()); ROD_CHUNK];
-        let mut len = 0;
-        let mut segments = rod_segments(rod).peekable();
-        while let Some(seg) = segments.next() {
-            chunk[len] = seg;
-            len += 1;
-            if len < ROD_CHUNK && segments.peek().is_some() {
-                continue;
-            }
-            // The chunk's ball: centre of its end points' box, radius covering every segment
-            // ball (centre at the midpoint, radius r + half the length), plus a rounding slack.
-            let (mut lo, mut hi) = (chunk[0].1, chunk[0].1);
-            for &(_, a, b) in &chunk[..len] {
-                lo = lo.inf(&a.inf(&b));
-                hi = hi.sup(&a.sup(&b));
-            }
-            let c = 0.5 * (lo + hi);
-            let r = chunk[..len]
-                .iter()
-                .map(|&(_, a, b)| (0.5 * (a + b) - c).norm() + 0.5 * (b - a).norm())
-                .fold(0.0, Real::max)
-                + rod.radius
-                + CHUNK_SLACK;
+        let mut prep = ws.rod.borrow_mut();
+        prep.prepare(rod);
+        let mut first = 0;
+        for &(c, r, end) in &prep.balls {
             let mut mask = 0u64;
             for (k, (bd, p)) in self.bodies.iter().zip(&ws.posed).enumerate() {
                 let (cb, rb) = Part::Body(bd, p).bound();
@@ -188,10 +220,10 @@ impl CollisionModel {
                     mask |= 1 << k;
                 }
             }
-            for &(i, a, b) in &chunk[..len] {
+            for &(i, a, b) in &prep.segments[first..end] {
                 self.visit_segment(ws, rod, v, i, a, b, mask)?;
             }
-            len = 0;
+            first = end;
         }
         ControlFlow::Continue(())
     }
@@ -351,5 +383,77 @@ mod tests {
         }
         assert!(hits >= 40 && misses >= 40, "hits {hits}, misses {misses}");
         assert!(skipped > 0, "nothing culled");
+    }
+
+    /// The workspace's rod chunks follow the rod: one buffer rewritten in place between checks
+    /// with the same ignored ends, and the same nodes with other ignored ends, report the hits
+    /// of a fresh workspace (the chunks built anew), over rods some of which hit.
+    #[test]
+    fn rod_chunks_follow_the_rod() {
+        let m = RobotModel::load("sawyer", None).unwrap();
+        let cm = CollisionModel::for_model(&m).unwrap();
+        let mut ws = cm.workspace();
+        let q = [0.0, -0.6, 0.0, 1.2, 0.0, 0.9, 0.0];
+        cm.update(&q, &mut ws);
+        let mut fresh = cm.workspace();
+        cm.update(&q, &mut fresh);
+        let tool = m.tool_pose(&q).unwrap().pos;
+        let frames = cm.link_frames(&ws).to_vec();
+        let mut nodes = vec![Vec3::zeros(); 25];
+        let (mut hits, mut misses) = (0, 0);
+        // Per rod, whether it hits with each ignored tool end.
+        let mut by_end = [[false; 3]; 100];
+        let mut check = |k: usize, near_tool: Real, nodes: &mut Vec<Vec3>| {
+            // From a clamp point around the tool to the tool, through (odd k) or beside (even
+            // k) a wrist link's origin at 80 % of the way (a quadratic Bézier), written into the
+            // same buffer: the ignored tool end decides whether the wrist pass is checked.
+            let th = 2.399_963 * k as Real;
+            let far = tool + Vec3::new(th.cos(), th.sin(), 0.3 * (0.7 * th).sin()) * 0.7;
+            let n_links = frames.len();
+            let wrist = frames[n_links - 2 - k % 3].pos
+                + if k % 2 == 0 {
+                    Vec3::new(0.0, 0.0, 0.25)
+                } else {
+                    Vec3::zeros()
+                };
+            let c = (wrist - far * 0.04 - tool * 0.64) / 0.32;
+            for (i, n) in nodes.iter_mut().enumerate() {
+                let t = i as Real / 24.0;
+                *n = far * ((1.0 - t) * (1.0 - t)) + c * (2.0 * t * (1.0 - t)) + tool * (t * t);
+            }
+            let rod = RodGeometry {
+                nodes,
+                radius: 0.004,
+                ignore_near_clamp: 0.0,
+                ignore_near_tool: near_tool,
+                against_scene: false,
+            };
+            let kept = CollisionModel::run(|v: &mut FirstHit| cm.walk_rod(&ws, &rod, v)).0;
+            *fresh.rod.borrow_mut() = RodChunks::default();
+            let anew = CollisionModel::run(|v: &mut FirstHit| cm.walk_rod(&fresh, &rod, v)).0;
+            assert_eq!(kept, anew, "rod {k}, ignore_near_tool {near_tool}");
+            by_end[k][usize::from(near_tool > 0.1) + usize::from(near_tool > 0.3)] = kept.is_some();
+            if kept.is_some() {
+                hits += 1;
+            } else {
+                misses += 1;
+            }
+        };
+        // The nodes change, the ignored ends stay.
+        for near_tool in [0.05, 0.2, 0.4] {
+            for k in 0..100 {
+                check(k, near_tool, &mut nodes);
+            }
+        }
+        // The ignored ends change, the nodes stay.
+        for k in 0..100 {
+            for near_tool in [0.05, 0.2, 0.4] {
+                check(k, near_tool, &mut nodes);
+            }
+        }
+        assert!(hits >= 30 && misses >= 30, "hits {hits}, misses {misses}");
+        // The ignored end decides some rods (so stale chunks would show).
+        let decided = by_end.iter().filter(|h| h[0] != h[2]).count();
+        assert!(decided >= 10, "{decided} rods depend on the ignored end");
     }
 }
