@@ -328,7 +328,6 @@ impl Graph {
             Via::Load | Via::Backoff => Some(self.nodes[n.parent as usize].c.slice),
             Via::Start | Via::Reconfigure => None,
         };
-        let prev = (n.parent != u32::MAX).then(|| self.nodes[n.parent as usize].c);
         for &mv in &moves[..n_moves] {
             let to = match mv {
                 Move::Load => Some(slice + 1),
@@ -339,7 +338,7 @@ impl Graph {
                 continue;
             }
             let counted = dir == Direction::Forward && mv == Move::Load;
-            let y = match linker.propose(&x, mv, prev.as_ref(), &|c| self.find(c).is_some()) {
+            let y = match linker.propose(&x, mv, &|c| self.find(c).is_some()) {
                 Ok(Some(y)) => y,
                 Ok(None) => continue,
                 Err(cause) => {

@@ -4,11 +4,9 @@
 //! - **Load** (to slice i + 1) and **back-off** (to slice i − 1): one minimum-norm
 //!   Levenberg–Marquardt run ([`IkSolver::track`]) from q to the neighbouring slice's pose at the
 //!   same roll ψ. Minimum-norm steps follow the self-motion curve continuously, so the tracked
-//!   point is the continuation of x's piece of the valid set. When x was itself reached across
-//!   slices from p on the other side, the run starts from the linear extrapolation
-//!   `q + r·(q − q_p)` (r the ratio of the two steps in s, at most 2), within O(step²) of the
-//!   solution, and falls back to q when that run fails; the runs start undamped
-//!   ([`crate::robot::IkParams::tracking`]).
+//!   point is the continuation of x's piece of the valid set. The runs start undamped
+//!   ([`crate::robot::IkParams::tracking`]): from a neighbouring slice's solution the
+//!   Gauss–Newton step converges quadratically.
 //! - **Walk** (inside slice i, roll held; 7-DOF arms): one predictor–corrector step along the
 //!   self-motion curve of the held pose in either direction, predictor `q ± h·n̂` (n̂ the
 //!   cofactor null direction of the Jacobian, max-norm 1; h = `planner.self_motion_step`, halved
@@ -116,7 +114,6 @@ impl<'a> Linker<'a> {
         &mut self,
         x: &Config,
         mv: Move,
-        prev: Option<&Config>,
         known: &dyn Fn(&Config) -> bool,
     ) -> std::result::Result<Option<Config>, BlockCause> {
         let i = x.slice as usize;
@@ -135,13 +132,7 @@ impl<'a> Linker<'a> {
                 None => return Ok(None),
             }
         } else {
-            let seed = prev.and_then(|p| self.extrapolate(p, x, slice));
-            let tracked = match seed {
-                Some(sd) => self
-                    .track(&target, &sd)
-                    .or_else(|| self.track(&target, &x.q)),
-                None => self.track(&target, &x.q),
-            };
+            let tracked = self.track(&target, &x.q);
             match tracked {
                 Some(q) => q,
                 None => {
@@ -167,25 +158,6 @@ impl<'a> Linker<'a> {
             q,
             psi,
         }))
-    }
-
-    /// The seed of a track from `x` to slice `to` when `x` was reached from `p` on the other
-    /// side: `x.q + r·(x.q − p.q)`, r the ratio of the two steps in s (clamped to [0, 2]).
-    fn extrapolate(&self, p: &Config, x: &Config, to: usize) -> Option<Q> {
-        let (ps, xs) = (p.slice as usize, x.slice as usize);
-        if ps + to != 2 * xs || p.psi != x.psi {
-            return None;
-        }
-        let w = &self.slices.wps;
-        let r = ((w[to].s - w[xs].s) / (w[xs].s - w[ps].s)).clamp(0.0, 2.0);
-        if !r.is_finite() {
-            return None;
-        }
-        let mut q = x.q;
-        for j in 0..self.planner.dof {
-            q[j] += r * (x.q[j] - p.q[j]);
-        }
-        Some(q)
     }
 
     /// The collision tests of the edge x → y: y itself, then the joint-linear segment.

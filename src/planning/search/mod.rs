@@ -71,7 +71,7 @@
 //! one slice is refused when the planner is made ([`check_resolution`]).
 //!
 //! # Cost
-//! A ray costs its nodes × about 1.5 tracks (≈ 3 Jacobian evaluations each) and 3 collision
+//! A ray costs its nodes × about 1.5 tracks (3–4 Jacobian evaluations each) and 3 collision
 //! tests (a node per self-motion step per slice of the pieces it visits, most made by a back-off
 //! or load step from the neighbouring slice; the move back to a node's parent slice is its own
 //! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
