@@ -45,7 +45,12 @@
 //! narrower than the resolution (a gap in a curve shorter than a step, a link between slices
 //! that no minimum-norm track from a sample finds) can be missed; the brute-force reference of
 //! the tests (every IK branch on a redundancy grid, from many restarts, flood-filled) bounds
-//! that on a sample of rays.
+//! that on a sample of rays. The slices are fixed: where the joint step between two
+//! neighbouring slices exceeds the bound on every sample (a fast stretch of the self-motion,
+//! typically near the end of a ray), the search stops with cause `discontinuity` even when a
+//! path through intermediate poses exists; the ladder inserts such poses (up to 4 halvings of
+//! the interval) and can reach farther there (measured: 1 of 200 quarter-sphere rays, 1 of the
+//! seed's 173 directions; `docs/RESULTS.md`).
 //!
 //! # Moves
 //! - **Reconfiguration** (a move inside a slice: the rod end held) when
@@ -76,7 +81,7 @@
 //! or load step from the neighbouring slice; the move back to a node's parent slice is its own
 //! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
 //! ray costs its reachable piece, or the far piece if that one is exhausted first: cheap when
-//! either is small, 120,000–230,000 nodes (1–2 s, ≈ 8.5 µs per node) when both are large regions of the strip
+//! either is small, 120,000–230,000 nodes (1–2 s, 6–8 µs per node) when both are large regions of the strip
 //! below s* (different self-motion families); those few rays dominate a sweep's CPU.
 //! Figures: `docs/RESULTS.md`.
 
