@@ -22,6 +22,7 @@
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
 //! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
 //! | search nodes per ray (rig `planner.max_search_nodes`) | [`MAX_SEARCH_NODES`] = 9,000,000 | ≈ 1 GiB |
+//! | halvings of a slice interval by a search bridge (rig `planner.bridge_halvings`) | [`MAX_BRIDGE_HALVINGS`] = 8 | at most 2⁸ tracks per bridge |
 //! | collision mesh files ([`crate::robot::mesh`]) | [`MAX_MESH_FILE_BYTES`] = 64 MiB, [`MAX_MESH_TRIANGLES`] = 1,000,000 triangles | bounded memory |
 //! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |
 //! | distance along a ray (`--s-max` of `boundary`, `check`, `simulate`) | ≤ [`MAX_S`] = 1e4 | bounds every scan over s |
@@ -63,6 +64,10 @@ pub const MAX_WAYPOINTS: usize = 1_000_000;
 /// Most nodes of one ray's search (rig `planner.max_search_nodes`): 1 GiB at ≈ 112 bytes per
 /// node ([`crate::planning::search::MAX_SEARCH_BYTES`]).
 pub const MAX_SEARCH_NODES: usize = 9_000_000;
+
+/// Most halvings of a slice interval by the search's bridges (rig `planner.bridge_halvings`):
+/// poses down to 1/256 of the interval, at most 2⁸ tracks per bridge.
+pub const MAX_BRIDGE_HALVINGS: usize = 8;
 /// Fewest random configurations for recomputing a robot's never-colliding link pairs: with n
 /// samples, a pair that collides on a fraction p of the configuration space is missed with
 /// probability (1 − p)ⁿ; n = 10,000 misses a p = 0.1 % pair with probability < 5·10⁻⁵.
@@ -106,6 +111,7 @@ pub fn rig_count_max(field: &str) -> usize {
         "azimuth.count" => MAX_AZIMUTHS,
         "planner.max_waypoints" => MAX_WAYPOINTS,
         "planner.max_search_nodes" => MAX_SEARCH_NODES,
+        "planner.bridge_halvings" => MAX_BRIDGE_HALVINGS,
         _ => MAX_RIG_COUNT,
     }
 }

@@ -12,7 +12,7 @@
 
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::math::{Real, Vec3};
-use helixreach::planning::planner::{Planner, ReachClass};
+use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
 use helixreach::planning::pose_path::{pose_path, PoseMap, Ray, Spacing};
 use helixreach::planning::rig::{Rig, RollMode, SearchMethod};
 use helixreach::planning::trajectory::Phase;
@@ -200,6 +200,8 @@ fn slice_of(rig: &Rig, d: &Direction, s: Real) -> usize {
 fn search_agrees_with_the_brute_force_reference() {
     let mut rig = coarse_rig(24, 0.05);
     rig.planner.allow_backoff = false;
+    // The reference joins neighbouring slices only: the search on the same fixed slices.
+    rig.planner.bridge_halvings = 0;
     let planner = Planner::new(rig.clone()).unwrap();
     let dirs: Vec<Direction> = fibonacci(200, true)
         .unwrap()
@@ -291,16 +293,65 @@ fn search_is_monotone_per_direction() {
 
 /// A testable ray's path: starts at s = 0 and ends at s_end; every step within the joint-step
 /// bound; every configuration holds its waypoint's pose (1e-9 m / rad) and is collision-free
-/// against its rod; reconfiguration points keep s; back-off points decrease s, only below s*;
-/// the trajectory's phases are those of the plan.
-#[test]
-fn search_paths_are_valid() {
-    let rig = coarse_rig(24, 0.1);
-    let planner = Planner::new(rig.clone()).unwrap();
+/// against its rod (capsules from the pose map's centerline, not the planner's); reconfiguration
+/// points keep s; back-off points decrease s, only below s*; the trajectory's phases are those
+/// of the plan.
+fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) {
+    let rig = planner.rig();
     let mut cm = CollisionModel::for_model(planner.model()).unwrap();
     cm.set_obstacles(&rig.obstacles).unwrap();
     let mut ws = cm.workspace();
-    let map = PoseMap::new(&rig, 0.0);
+    let map = PoseMap::new(rig, 0.0);
+    let path = plan.path.as_ref().unwrap();
+    assert_eq!(path[0].waypoint.s, 0.0);
+    assert!((path.last().unwrap().waypoint.s - plan.s_end).abs() <= 1e-12 * plan.s_end);
+    for (k, p) in path.iter().enumerate() {
+        let target = IkTarget::Pose(planner.tip_target(&p.waypoint.tool));
+        let (dp, dr) = target.errors(&planner.model().chain().tool_pose(&p.q));
+        assert!(dp < 1e-9 && dr < 1e-9, "{d:?} point {k}: {dp:e} {dr:e}");
+        let nodes = map
+            .centerline(p.waypoint.kto, rig.planner.rod_capsules)
+            .unwrap();
+        assert!(cm
+            .check(&p.q, &mut ws, Some(&rig.rod_geometry(&nodes)))
+            .is_none());
+        if k == 0 {
+            continue;
+        }
+        let a = &path[k - 1];
+        let step = (0..p.q.len())
+            .map(|j| (p.q[j] - a.q[j]).abs())
+            .fold(0.0, Real::max);
+        assert!(
+            step <= rig.planner.max_joint_step + 1e-12,
+            "{d:?} {k}: {step}"
+        );
+        match p.phase {
+            Phase::Reconfigure => assert_eq!(p.waypoint.s, a.waypoint.s),
+            Phase::Backoff => {
+                assert!(p.waypoint.s < a.waypoint.s && a.waypoint.s <= s);
+            }
+            Phase::Load => assert!(p.waypoint.s > a.waypoint.s),
+            other => panic!("{d:?}: phase {other:?} in a plan"),
+        }
+    }
+    let traj = planner.trajectory(plan).unwrap();
+    let n_back = traj
+        .points
+        .iter()
+        .filter(|p| p.phase == Phase::Backoff)
+        .count();
+    assert_eq!(
+        n_back,
+        path.iter().filter(|p| p.phase == Phase::Backoff).count()
+    );
+}
+
+/// Paths of the testable rays of a coarse rig (24 slices: most edges are bridges) are valid
+/// ([`assert_path_valid`]).
+#[test]
+fn search_paths_are_valid() {
+    let planner = Planner::new(coarse_rig(24, 0.1)).unwrap();
     let mut checked = 0;
     for d in fibonacci(200, true).unwrap().into_iter().step_by(20) {
         let s = s_star(&d);
@@ -309,51 +360,47 @@ fn search_paths_are_valid() {
             continue;
         }
         checked += 1;
-        let path = plan.path.as_ref().unwrap();
-        assert_eq!(path[0].waypoint.s, 0.0);
-        assert!((path.last().unwrap().waypoint.s - plan.s_end).abs() <= 1e-12 * plan.s_end);
-        for (k, p) in path.iter().enumerate() {
-            let target = IkTarget::Pose(planner.tip_target(&p.waypoint.tool));
-            let (dp, dr) = target.errors(&planner.model().chain().tool_pose(&p.q));
-            assert!(dp < 1e-9 && dr < 1e-9, "{d:?} point {k}: {dp:e} {dr:e}");
-            let nodes = map
-                .centerline(p.waypoint.kto, rig.planner.rod_capsules)
-                .unwrap();
-            assert!(cm
-                .check(&p.q, &mut ws, Some(&rig.rod_geometry(&nodes)))
-                .is_none());
-            if k == 0 {
-                continue;
-            }
-            let a = &path[k - 1];
-            let step = (0..p.q.len())
-                .map(|j| (p.q[j] - a.q[j]).abs())
-                .fold(0.0, Real::max);
-            assert!(
-                step <= rig.planner.max_joint_step + 1e-12,
-                "{d:?} {k}: {step}"
-            );
-            match p.phase {
-                Phase::Reconfigure => assert_eq!(p.waypoint.s, a.waypoint.s),
-                Phase::Backoff => {
-                    assert!(p.waypoint.s < a.waypoint.s && a.waypoint.s <= s);
-                }
-                Phase::Load => assert!(p.waypoint.s > a.waypoint.s),
-                other => panic!("{d:?}: phase {other:?} in a plan"),
-            }
-        }
-        let traj = planner.trajectory(&plan).unwrap();
-        let n_back = traj
-            .points
-            .iter()
-            .filter(|p| p.phase == Phase::Backoff)
-            .count();
-        assert_eq!(
-            n_back,
-            path.iter().filter(|p| p.phase == Phase::Backoff).count()
-        );
+        assert_path_valid(&planner, &d, s, &plan);
     }
     assert!(checked >= 3, "{checked} testable rays checked");
+}
+
+/// Where no single step joins two slices near a ray's end, the ladder inserts midpoint poses
+/// and the search bridges the same interval: on the seed rig's quarter-sphere ray 114 of 200
+/// (margin 0.1) the ladder is testable; the search with fixed slices (`bridge_halvings = 0`)
+/// stops two slices short with cause `discontinuity`; with bridges it is testable, its path
+/// passes through a pose between slices, and the path is valid ([`assert_path_valid`]).
+#[test]
+fn search_bridges_where_the_ladder_refines() {
+    let d = fibonacci(200, true).unwrap()[114];
+    let s = s_star(&d);
+    let mut rig = Rig::load("sawyer-seed").unwrap();
+    rig.planner.margin = 0.1;
+    let ladder = Planner::new(rig.clone()).unwrap();
+    let l = ladder.plan_ray(&d, s, 0.0, RollMode::Fixed, false).unwrap();
+    assert_eq!(l.class, ReachClass::Testable, "the ladder: {l:?}");
+    rig.planner.search = SearchMethod::Exact;
+    rig.planner.bridge_halvings = 0;
+    let fixed = Planner::new(rig.clone()).unwrap();
+    let f = fixed.plan_ray(&d, s, 0.0, RollMode::Fixed, false).unwrap();
+    assert_eq!(f.class, ReachClass::Partial);
+    assert_eq!(f.cause.map(|c| c.as_str()), Some("discontinuity"));
+    rig.planner.bridge_halvings = 4;
+    let bridged = Planner::new(rig.clone()).unwrap();
+    let b = bridged.plan_ray(&d, s, 0.0, RollMode::Fixed, true).unwrap();
+    assert_eq!(b.class, ReachClass::Testable, "the search: {b:?}");
+    let ray = Ray {
+        dir: [d.kappa, d.tau, d.omega],
+        azimuth: 0.0,
+    };
+    let wps = pose_path(&rig, &ray, b.s_end, &Spacing::of(&rig)).unwrap();
+    let path = b.path.as_ref().unwrap();
+    let between = path
+        .iter()
+        .filter(|p| !wps.iter().any(|w| w.s == p.waypoint.s))
+        .count();
+    assert!(between > 0, "no pose between slices on the path");
+    assert_path_valid(&bridged, &d, s, &b);
 }
 
 /// The node bound makes a ray `undecided`, never a guessed class; a self-motion step the bound

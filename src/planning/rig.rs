@@ -337,6 +337,10 @@ pub struct PlannerSettings {
     pub allow_backoff: bool,
     /// Most nodes of one ray's search (≈ 112 bytes each); a ray needing more is `undecided`.
     pub max_search_nodes: usize,
+    /// The search only: most halvings of a slice interval where no single step joins two
+    /// slices (a bridge through intermediate poses, like the ladder's refinement; 0: fixed
+    /// slices).
+    pub bridge_halvings: usize,
 }
 
 impl PlannerSettings {
@@ -410,6 +414,7 @@ impl Default for PlannerSettings {
             search: SearchMethod::Ladder,
             allow_backoff: true,
             max_search_nodes: 1_000_000,
+            bridge_halvings: 4,
         }
     }
 }
@@ -775,6 +780,7 @@ struct RawPlanner {
     search: Option<String>,
     allow_backoff: Option<bool>,
     max_search_nodes: Option<usize>,
+    bridge_halvings: Option<usize>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1189,6 +1195,11 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             "planner.max_search_nodes",
             p.max_search_nodes.unwrap_or(d.max_search_nodes),
             1,
+        )?,
+        bridge_halvings: c.count(
+            "planner.bridge_halvings",
+            p.bridge_halvings.unwrap_or(d.bridge_halvings),
+            0,
         )?,
     };
     if planner.self_motion_step > max_joint_step {

@@ -121,6 +121,7 @@ struct OutPlanner<'a> {
     search: &'static str,
     allow_backoff: bool,
     max_search_nodes: usize,
+    bridge_halvings: usize,
 }
 
 fn arr(v: &crate::math::Vec3) -> [Real; 3] {
@@ -211,6 +212,7 @@ impl Rig {
                 search: pl.search.as_str(),
                 allow_backoff: pl.allow_backoff,
                 max_search_nodes: pl.max_search_nodes,
+                bridge_halvings: pl.bridge_halvings,
             },
             obstacles: &self.obstacles,
         };

@@ -29,17 +29,19 @@
 //! back-off).
 //!
 //! A node reached across slices (a load or back-off edge from its parent) goes back to its
-//! parent's slice by that edge reversed: the same joint-linear segment, checked against the same
-//! rod, within the same step bound, so it is an edge of the graph and the parent is already a
-//! node. That move is not tracked again.
+//! parent's slice by that edge reversed: the same joint-linear segment (or a bridge's chain of
+//! them), checked against the same rods, within the same step bound, so it is an edge of the
+//! graph and the parent is already a node. That move is not tracked again.
 //!
 //! # Bound
 //! At most `planner.max_search_nodes` nodes (each ≈ 100 bytes): a search that would create more
 //! stops and the ray is `undecided` (never a guessed class).
 
-use super::linking::{Config, Linker, Move, ROLL_STEP};
+use super::linking::{Config, Linker, Move, Proposal, ROLL_STEP};
 use crate::math::Real;
 use crate::planning::ladder::CauseCounts;
+use crate::planning::pose_path::Waypoint;
+use crate::planning::self_motion::Q;
 use std::collections::BinaryHeap;
 
 /// Two configurations of one slice closer than this fraction of the walk step (every joint; and
@@ -134,6 +136,9 @@ pub(crate) struct Graph {
     pub farthest: u32,
     /// Nodes made by the last [`Graph::step`].
     pub fresh: Vec<u32>,
+    /// Per node reached by a bridged move ([`super::linking::Proposal::Bridged`]): the poses
+    /// and configurations between its parent and it, from the parent's side.
+    pub bridges: std::collections::HashMap<u32, Vec<(Waypoint, Q)>>,
     merge_q: Real,
     red: usize,
     dof: usize,
@@ -177,6 +182,7 @@ impl Graph {
             causes: vec![CauseCounts::default(); n_slices],
             farthest: 0,
             fresh: Vec::new(),
+            bridges: std::collections::HashMap::new(),
             merge_q,
             red,
             dof,
@@ -338,8 +344,9 @@ impl Graph {
                 continue;
             }
             let counted = dir == Direction::Forward && mv == Move::Load;
-            let y = match linker.propose(&x, mv, &|c| self.find(c).is_some()) {
-                Ok(Some(y)) => y,
+            let (y, bridged) = match linker.propose(&x, mv, &|c| self.find(c).is_some()) {
+                Ok(Some(Proposal::Step(y))) => (y, false),
+                Ok(Some(Proposal::Bridged(y))) => (y, true),
                 Ok(None) => continue,
                 Err(cause) => {
                     if counted {
@@ -351,11 +358,13 @@ impl Graph {
             if self.find(&y).is_some() {
                 continue;
             }
-            if let Err(cause) = linker.accept(&x, &y) {
-                if counted {
-                    self.causes[slice as usize].add(cause);
+            if !bridged {
+                if let Err(cause) = linker.accept(&x, &y) {
+                    if counted {
+                        self.causes[slice as usize].add(cause);
+                    }
+                    continue;
                 }
-                continue;
             }
             if self.nodes.len() >= rules.max_nodes {
                 return Some(Outcome::Bound);
@@ -372,6 +381,9 @@ impl Graph {
                 parent: id,
                 via,
             });
+            if bridged {
+                self.bridges.insert(nid, std::mem::take(&mut linker.bridge));
+            }
             self.fresh.push(nid);
             if y.slice == goal {
                 return Some(Outcome::Reached(nid));

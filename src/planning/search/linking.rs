@@ -4,7 +4,12 @@
 //! - **Load** (to slice i + 1) and **back-off** (to slice i − 1): one minimum-norm
 //!   Levenberg–Marquardt run ([`IkSolver::track`]) from q to the neighbouring slice's pose at the
 //!   same roll ψ. Minimum-norm steps follow the self-motion curve continuously, so the tracked
-//!   point is the continuation of x's piece of the valid set. The runs start undamped
+//!   point is the continuation of x's piece of the valid set. Where that step fails (no
+//!   convergence, or a joint step over the bound) the move is **bridged**: the s-interval is
+//!   halved (at most `planner.bridge_halvings` times, the ladder's refinement) and crossed by a
+//!   chain of such tracks through the intermediate poses, each end checked against its own rod
+//!   and each segment against the rod of the larger s; the chain is part of the edge. The runs
+//!   start undamped
 //!   ([`crate::robot::IkParams::tracking`]): from a neighbouring slice's solution the
 //!   Gauss–Newton step converges quadratically.
 //! - **Walk** (inside slice i, roll held; 7-DOF arms): one predictor–corrector step along the
@@ -21,10 +26,11 @@
 //! counted under its cause (no IK, joint limit, the collision kind, or `discontinuity` for the
 //! step bound): the blocking cause of a ray is the dominant one at its farthest slice.
 
-use super::slices::Slices;
-use crate::math::Real;
+use super::slices::{check_rod, segment_rod, Slices};
+use crate::math::{Real, Vec3};
 use crate::planning::ladder::BlockCause;
 use crate::planning::planner::Planner;
+use crate::planning::pose_path::Waypoint;
 use crate::planning::self_motion::{null_direction, Q};
 use crate::planning::witness::WALK_MIN_STEP;
 use crate::robot::{CollisionWorkspace, IkSolver, IkTarget, Jacobian};
@@ -70,6 +76,22 @@ pub(crate) struct Linker<'a> {
     step: Real,
     /// The last walked configuration and its null direction: a node's two walks (±) share it.
     null: Option<(Q, Q)>,
+    /// The intermediate poses and configurations of the last bridged move ([`Linker::propose`]
+    /// returned [`Proposal::Bridged`]), from its start's side; rod scratch of a pose between
+    /// slices, and of the pose before it.
+    pub bridge: Vec<(Waypoint, Q)>,
+    rod: Vec<Vec3>,
+    rod_prev: Vec<Vec3>,
+}
+
+/// A move's end configuration, before or after its collision tests.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Proposal {
+    /// One step: the caller checks it ([`Linker::accept`]).
+    Step(Config),
+    /// Across slices through intermediate poses ([`Linker::bridge`]), every configuration and
+    /// segment already checked; the chain is in [`Linker::bridge`].
+    Bridged(Config),
 }
 
 impl<'a> Linker<'a> {
@@ -83,6 +105,9 @@ impl<'a> Linker<'a> {
             jac: Jacobian::zeros(),
             step: planner.rig.planner.self_motion_step,
             null: None,
+            bridge: Vec::new(),
+            rod: vec![Vec3::zeros(); planner.rig.planner.rod_capsules + 1],
+            rod_prev: vec![Vec3::zeros(); planner.rig.planner.rod_capsules + 1],
         })
     }
 
@@ -115,7 +140,7 @@ impl<'a> Linker<'a> {
         x: &Config,
         mv: Move,
         known: &dyn Fn(&Config) -> bool,
-    ) -> std::result::Result<Option<Config>, BlockCause> {
+    ) -> std::result::Result<Option<Proposal>, BlockCause> {
         let i = x.slice as usize;
         let bound = self.planner.rig.planner.max_joint_step;
         let (slice, psi) = match mv {
@@ -134,8 +159,17 @@ impl<'a> Linker<'a> {
         } else {
             let tracked = self.track(&target, &x.q);
             match tracked {
-                Some(q) => q,
-                None => {
+                Some(q) if self.max_step(&x.q, &q) <= bound => q,
+                _ => {
+                    // No single step across slices: through poses between them, or the cause.
+                    if matches!(mv, Move::Load | Move::Backoff) {
+                        if let Some(y) = self.bridge(x, slice, psi) {
+                            return Ok(Some(Proposal::Bridged(y)));
+                        }
+                    }
+                    if tracked.is_some() {
+                        return Err(BlockCause::Discontinuity);
+                    }
                     let (lo, hi) = (self.planner.model.lower(), self.planner.model.upper());
                     let near = (0..self.planner.dof)
                         .any(|j| x.q[j] - lo[j] < bound || hi[j] - x.q[j] < bound);
@@ -153,11 +187,87 @@ impl<'a> Linker<'a> {
         if !self.planner.motor_ok(self.slices.motor(slice, psi)) {
             return Err(BlockCause::JointLimit);
         }
-        Ok(Some(Config {
+        Ok(Some(Proposal::Step(Config {
             slice: slice as u32,
             q,
             psi,
-        }))
+        })))
+    }
+
+    /// A move from `x` to slice `to` through intermediate poses: the s-interval is halved where
+    /// a step fails (at most `planner.bridge_halvings` times in all, like the ladder's
+    /// refinement; the first halving is the interval's midpoint, the direct step having failed), each
+    /// step one minimum-norm track within the joint-step bound, its end valid against its own
+    /// rod (and the motor range) and its segment collision-free against the rod of the larger
+    /// s. The chain (intermediate poses and configurations) is left in `self.bridge`; `None`
+    /// when no chain is found.
+    fn bridge(&mut self, x: &Config, to: usize, psi: Real) -> Option<Config> {
+        let bound = self.planner.rig.planner.max_joint_step;
+        let max_halvings = self.planner.rig.planner.bridge_halvings;
+        if max_halvings == 0 {
+            return None;
+        }
+        let planner = self.planner;
+        let slices = self.slices;
+        self.bridge.clear();
+        let (s_goal, s_from) = (slices.wps[to].s, slices.wps[x.slice as usize].s);
+        let mut cur = x.q;
+        let mut s_cur = s_from;
+        // The rod of the current end (`rod_prev`), for segments toward smaller s.
+        self.rod_prev
+            .copy_from_slice(&slices.rods[x.slice as usize]);
+        // The direct step failed: start at the interval's midpoint.
+        let mut pending: Vec<Real> = vec![0.5 * (s_from + s_goal)];
+        let mut halvings = 1;
+        loop {
+            let inner = pending.last().copied();
+            let (target, wp) = match inner {
+                Some(sm) => {
+                    let w = slices.between(planner, sm, &mut self.rod).ok()?;
+                    (slices.target_of(planner, &w, psi), Some(w))
+                }
+                None => {
+                    self.rod.copy_from_slice(&slices.rods[to]);
+                    (slices.target(planner, to, psi), None)
+                }
+            };
+            let s_t = inner.unwrap_or(s_goal);
+            let motor = wp.as_ref().map_or(slices.motor(to, psi), |w| w.motor - psi);
+            let ok = self.track(&target, &cur).filter(|q| {
+                self.max_step(&cur, q) <= bound
+                    && planner.motor_ok(motor)
+                    && check_rod(planner, &self.rod, &q[..planner.dof], &mut self.ws).is_ok()
+                    && {
+                        let seg_rod = if s_t > s_cur {
+                            &self.rod
+                        } else {
+                            &self.rod_prev
+                        };
+                        segment_rod(planner, seg_rod, &cur, q, &mut self.ws).is_ok()
+                    }
+            });
+            match ok {
+                Some(q) => {
+                    if inner.is_none() {
+                        return Some(Config {
+                            slice: to as u32,
+                            q,
+                            psi,
+                        });
+                    }
+                    pending.pop();
+                    self.bridge.push((wp.expect("an intermediate pose"), q));
+                    cur = q;
+                    s_cur = s_t;
+                    std::mem::swap(&mut self.rod, &mut self.rod_prev);
+                }
+                None if halvings < max_halvings => {
+                    pending.push(0.5 * (s_cur + s_t));
+                    halvings += 1;
+                }
+                None => return None,
+            }
+        }
     }
 
     /// The collision tests of the edge x → y: y itself, then the joint-linear segment.

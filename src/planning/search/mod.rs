@@ -37,20 +37,20 @@
 //!   curve; two samples within 0.6 of that step in every joint are one node (submodule `graph`).
 //! - **Roll** (`motor`): steps of `linking::ROLL_STEP`.
 //! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
-//!   the neighbouring slice; every edge within the joint-step bound, its end valid and its
-//!   joint-linear segment collision-free (checked every `planner.segment_check_step`).
+//!   the neighbouring slice, or a bridge of such tracks through intermediate poses; every step
+//!   within the joint-step bound, its end valid and its joint-linear segment collision-free
+//!   (checked every `planner.segment_check_step`).
 //!
 //! At this resolution the answer is exact for the graph these edges span: a ray called partial
 //! has no path in it (every node reachable from a start was expanded). A valid connection
 //! narrower than the resolution (a gap in a curve shorter than a step, a link between slices
 //! that no minimum-norm track from a sample finds) can be missed; the brute-force reference of
 //! the tests (every IK branch on a redundancy grid, from many restarts, flood-filled) bounds
-//! that on a sample of rays. The slices are fixed: where the joint step between two
-//! neighbouring slices exceeds the bound on every sample (a fast stretch of the self-motion,
-//! typically near the end of a ray), the search stops with cause `discontinuity` even when a
-//! path through intermediate poses exists; the ladder inserts such poses (up to 4 halvings of
-//! the interval) and can reach farther there (measured: 1 of 200 quarter-sphere rays, 1 of the
-//! seed's 173 directions; `docs/RESULTS.md`).
+//! that on a sample of rays. Where no single track joins a node to the neighbouring slice
+//! within the joint-step bound (a fast stretch of the self-motion, typically near the end of a
+//! ray), the edge is bridged through intermediate poses (`planner.bridge_halvings` halvings of
+//! the interval at most, as the ladder refines its waypoints): with `bridge_halvings = 0` the
+//! slices are fixed and such rays stop with cause `discontinuity`.
 //!
 //! # Moves
 //! - **Reconfiguration** (a move inside a slice: the rod end held) when

@@ -3,7 +3,8 @@
 //!
 //! The chain runs from a start configuration (the last one at slice 0 before the first load
 //! step: the arm reaches any valid start before the rod is clamped) through load (`load`),
-//! inside-slice (`reconfigure`) and back-off (`backoff`) edges. A walk step inside a slice is
+//! inside-slice (`reconfigure`) and back-off (`backoff`) edges; a bridged edge
+//! ([`super::linking::Proposal::Bridged`]) adds its intermediate poses as points of its phase. A walk step inside a slice is
 //! resampled ([`self_motion::refine`]) so that the rod end stays within
 //! [`self_motion::HOLD_TOLERANCE`] on every joint-linear chord, and every resampled point and
 //! chord is checked again against the held rod; a roll step (roll `motor`) is one chord of at
@@ -79,13 +80,37 @@ pub(crate) fn extract(
                     _ => {}
                 }
             }
-            let a = node_of(&pn.q, slices.motor(pn.slice as usize, pn.psi));
-            let b = node_of(&n.c.q, slices.motor(n.c.slice as usize, n.c.psi));
-            cost += planner.edge_cost(&a, &b).unwrap_or(Real::INFINITY);
-            let step = (0..dof)
-                .map(|j| (n.c.q[j] - pn.q[j]).abs())
-                .fold(0.0, Real::max);
-            max_step = Real::max(max_step, step);
+            // The edge's configurations: the parent, a bridge's intermediate ones, the node.
+            let bridge = graph.bridges.get(&i).map_or(&[][..], Vec::as_slice);
+            let mut from = node_of(&pn.q, slices.motor(pn.slice as usize, pn.psi));
+            let mut from_q = pn.q;
+            let ends = bridge
+                .iter()
+                .map(|(w, q)| (*q, w.motor - n.c.psi))
+                .chain(std::iter::once((
+                    n.c.q,
+                    slices.motor(n.c.slice as usize, n.c.psi),
+                )));
+            for (q, motor) in ends {
+                let to = node_of(&q, motor);
+                cost += planner.edge_cost(&from, &to).unwrap_or(Real::INFINITY);
+                let step = (0..dof)
+                    .map(|j| (q[j] - from_q[j]).abs())
+                    .fold(0.0, Real::max);
+                max_step = Real::max(max_step, step);
+                from = to;
+                from_q = q;
+            }
+            if want_path {
+                for (w, q) in bridge {
+                    out.push(PlannedPoint {
+                        waypoint: w.clone(),
+                        q: q[..dof].to_vec(),
+                        motor: w.motor - n.c.psi,
+                        phase,
+                    });
+                }
+            }
             if want_path && n.via == Via::Reconfigure && n.c.psi == pn.psi {
                 for q in refine_walk(planner, slices, linker, &pn.q, &n.c.q, n.c.slice, n.c.psi)? {
                     out.push(point(

@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::math::{rot_z, tol, Real, Vec3};
 use crate::planning::ladder::BlockCause;
 use crate::planning::planner::{cause_of, Planner};
-use crate::planning::pose_path::{pose_path, Ray, Spacing, Waypoint};
+use crate::planning::pose_path::{pose_path, PoseMap, Ray, Spacing, Waypoint};
 use crate::planning::rig::iso_from;
 use crate::robot::{CollisionWorkspace, Frame, IkTarget, MAX_DOF};
 
@@ -35,6 +35,11 @@ pub(crate) struct Slices {
     pub s_star: Real,
     /// Target s of the ray.
     pub s_end: Real,
+    /// The ray's direction (κ, τ, ω) per unit s, its azimuth, and its pose map (for poses
+    /// between slices).
+    dir: [Real; 3],
+    azimuth: Real,
+    map: PoseMap,
 }
 
 impl Slices {
@@ -67,6 +72,9 @@ impl Slices {
             rods,
             s_star,
             s_end,
+            dir: ray.dir,
+            azimuth,
+            map: PoseMap::new(rig, azimuth),
         })
     }
 
@@ -93,6 +101,26 @@ impl Slices {
         self.wps[i].motor - psi
     }
 
+    /// The waypoint at `s` between slices (a bridge's intermediate pose) and its rod's nodes
+    /// written into `rod` (`planner.rod_capsules` + 1 points).
+    pub fn between(&self, planner: &Planner, s: Real, rod: &mut [Vec3]) -> Result<Waypoint> {
+        let kto = [s * self.dir[0], s * self.dir[1], s * self.dir[2]];
+        let (tool, motor) = self.map.end(kto)?;
+        planner.rod_nodes(kto, self.azimuth, rod)?;
+        Ok(Waypoint {
+            s,
+            kto,
+            tool,
+            motor,
+        })
+    }
+
+    /// The full-pose IK target of waypoint `w` at arm roll `psi`.
+    pub fn target_of(&self, planner: &Planner, w: &Waypoint, psi: Real) -> IkTarget {
+        let r = w.tool.rotation.to_rotation_matrix().into_inner() * rot_z(-psi);
+        IkTarget::Pose(planner.tip_target(&iso_from(&r, &w.tool.translation.vector)))
+    }
+
     /// Collision test of `q` against the scene, itself and the rod of slice `i`.
     pub fn check(
         &self,
@@ -101,11 +129,7 @@ impl Slices {
         q: &[Real],
         ws: &mut CollisionWorkspace,
     ) -> std::result::Result<(), BlockCause> {
-        let rod = planner.rig.rod_geometry(&self.rods[i]);
-        match planner.collision.check(q, ws, Some(&rod)) {
-            None => Ok(()),
-            Some(c) => Err(cause_of(&c)),
-        }
+        check_rod(planner, &self.rods[i], q, ws)
     }
 
     /// Collision test of the interior of the joint-linear segment a → b against the rod of
@@ -118,17 +142,43 @@ impl Slices {
         b: &[Real; MAX_DOF],
         ws: &mut CollisionWorkspace,
     ) -> std::result::Result<(), BlockCause> {
-        let dof = planner.dof;
-        let dmax = (0..dof).map(|j| (b[j] - a[j]).abs()).fold(0.0, Real::max);
-        let n = (dmax / planner.rig.planner.segment_check_step).ceil() as usize;
-        let mut qi = [0.0; MAX_DOF];
-        for k in 1..n {
-            let t = k as Real / n as Real;
-            for j in 0..dof {
-                qi[j] = a[j] + t * (b[j] - a[j]);
-            }
-            self.check(planner, i, &qi[..dof], ws)?;
-        }
-        Ok(())
+        segment_rod(planner, &self.rods[i], a, b, ws)
     }
+}
+
+/// Collision test of `q` against the scene, itself and the rod with capsule nodes `rod`.
+pub(crate) fn check_rod(
+    planner: &Planner,
+    rod: &[Vec3],
+    q: &[Real],
+    ws: &mut CollisionWorkspace,
+) -> std::result::Result<(), BlockCause> {
+    let rod = planner.rig.rod_geometry(rod);
+    match planner.collision.check(q, ws, Some(&rod)) {
+        None => Ok(()),
+        Some(c) => Err(cause_of(&c)),
+    }
+}
+
+/// Collision test of the interior of the joint-linear segment a → b against the rod with
+/// capsule nodes `rod`, samples at most `segment_check_step` apart.
+pub(crate) fn segment_rod(
+    planner: &Planner,
+    rod: &[Vec3],
+    a: &[Real; MAX_DOF],
+    b: &[Real; MAX_DOF],
+    ws: &mut CollisionWorkspace,
+) -> std::result::Result<(), BlockCause> {
+    let dof = planner.dof;
+    let dmax = (0..dof).map(|j| (b[j] - a[j]).abs()).fold(0.0, Real::max);
+    let n = (dmax / planner.rig.planner.segment_check_step).ceil() as usize;
+    let mut qi = [0.0; MAX_DOF];
+    for k in 1..n {
+        let t = k as Real / n as Real;
+        for j in 0..dof {
+            qi[j] = a[j] + t * (b[j] - a[j]);
+        }
+        check_rod(planner, rod, &qi[..dof], ws)?;
+    }
+    Ok(())
 }
