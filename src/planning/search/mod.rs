@@ -81,7 +81,7 @@
 //! or load step from the neighbouring slice; the move back to a node's parent slice is its own
 //! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
 //! ray costs its reachable piece, or the far piece if that one is exhausted first: cheap when
-//! either is small, 120,000–230,000 nodes (1–2 s, 6–8 µs per node) when both are large regions of the strip
+//! either is small, 200,000–230,000 nodes (1.5–2.5 s, 7–12 µs per node) when both are large regions of the strip
 //! below s* (different self-motion families); those few rays dominate a sweep's CPU.
 //! Figures: `docs/RESULTS.md`.
 
