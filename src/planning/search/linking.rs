@@ -26,7 +26,7 @@
 //! counted under its cause (no IK, joint limit, the collision kind, or `discontinuity` for the
 //! step bound): the blocking cause of a ray is the dominant one at its farthest slice.
 
-use super::slices::{check_rod, segment_rod, Slices};
+use super::slices::{check_rod, segment_rod, tip_of, Slices};
 use crate::math::{Real, Vec3};
 use crate::planning::ladder::BlockCause;
 use crate::planning::planner::Planner;
@@ -82,6 +82,9 @@ pub(crate) struct Linker<'a> {
     pub bridge: Vec<(Waypoint, Q)>,
     rod: Vec<Vec3>,
     rod_prev: Vec<Vec3>,
+    /// A bridge's intermediate s still to reach, innermost last (at most
+    /// `planner.bridge_halvings`).
+    pending: Vec<Real>,
 }
 
 /// A move's end configuration, before or after its collision tests.
@@ -108,6 +111,7 @@ impl<'a> Linker<'a> {
             bridge: Vec::new(),
             rod: vec![Vec3::zeros(); planner.rig.planner.rod_capsules + 1],
             rod_prev: vec![Vec3::zeros(); planner.rig.planner.rod_capsules + 1],
+            pending: Vec::with_capacity(planner.rig.planner.bridge_halvings),
         })
     }
 
@@ -217,14 +221,15 @@ impl<'a> Linker<'a> {
         self.rod_prev
             .copy_from_slice(&slices.rods[x.slice as usize]);
         // The direct step failed: start at the interval's midpoint.
-        let mut pending: Vec<Real> = vec![0.5 * (s_from + s_goal)];
+        self.pending.clear();
+        self.pending.push(0.5 * (s_from + s_goal));
         let mut halvings = 1;
         loop {
-            let inner = pending.last().copied();
+            let inner = self.pending.last().copied();
             let (target, wp) = match inner {
                 Some(sm) => {
                     let w = slices.between(planner, sm, &mut self.rod).ok()?;
-                    (slices.target_of(planner, &w, psi), Some(w))
+                    (IkTarget::Pose(tip_of(planner, &w, psi)), Some(w))
                 }
                 None => {
                     self.rod.copy_from_slice(&slices.rods[to]);
@@ -255,14 +260,14 @@ impl<'a> Linker<'a> {
                             psi,
                         });
                     }
-                    pending.pop();
+                    self.pending.pop();
                     self.bridge.push((wp.expect("an intermediate pose"), q));
                     cur = q;
                     s_cur = s_t;
                     std::mem::swap(&mut self.rod, &mut self.rod_prev);
                 }
                 None if halvings < max_halvings => {
-                    pending.push(0.5 * (s_cur + s_t));
+                    self.pending.push(0.5 * (s_cur + s_t));
                     halvings += 1;
                 }
                 None => return None,

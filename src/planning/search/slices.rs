@@ -85,10 +85,7 @@ impl Slices {
 
     /// The tip-link pose of slice `i` at arm roll `psi`.
     pub fn tip(&self, planner: &Planner, i: usize, psi: Real) -> Frame {
-        let w = &self.wps[i];
-        let r = w.tool.rotation.to_rotation_matrix().into_inner() * rot_z(-psi);
-        let tool = iso_from(&r, &w.tool.translation.vector);
-        planner.tip_target(&tool)
+        tip_of(planner, &self.wps[i], psi)
     }
 
     /// The full-pose IK target of slice `i` at arm roll `psi`.
@@ -115,12 +112,6 @@ impl Slices {
         })
     }
 
-    /// The full-pose IK target of waypoint `w` at arm roll `psi`.
-    pub fn target_of(&self, planner: &Planner, w: &Waypoint, psi: Real) -> IkTarget {
-        let r = w.tool.rotation.to_rotation_matrix().into_inner() * rot_z(-psi);
-        IkTarget::Pose(planner.tip_target(&iso_from(&r, &w.tool.translation.vector)))
-    }
-
     /// Collision test of `q` against the scene, itself and the rod of slice `i`.
     pub fn check(
         &self,
@@ -144,6 +135,12 @@ impl Slices {
     ) -> std::result::Result<(), BlockCause> {
         segment_rod(planner, &self.rods[i], a, b, ws)
     }
+}
+
+/// The tip-link pose of waypoint `w` (a slice's, or one between slices) at arm roll `psi`.
+pub(crate) fn tip_of(planner: &Planner, w: &Waypoint, psi: Real) -> Frame {
+    let r = w.tool.rotation.to_rotation_matrix().into_inner() * rot_z(-psi);
+    planner.tip_target(&iso_from(&r, &w.tool.translation.vector))
 }
 
 /// Collision test of `q` against the scene, itself and the rod with capsule nodes `rod`.
