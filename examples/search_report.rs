@@ -12,7 +12,7 @@
 //! `planner.allow_reconfiguration` off; `--azimuths N`: each ray planned at N azimuths (the
 //! best kept, [`Planner::plan_best`]) instead of azimuth 0.
 //! `--full`: the whole sphere's Fibonacci lattice instead of the quarter-sphere; `--every k`:
-//! every k-th direction of the lattice; `--only k`: the k-th of those only; `--step`: the rig's `planner.self_motion_step`.
+//! every k-th direction of the lattice; `--only k`: the k-th of those only; `--step`: the rig's `planner.search_step`.
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode, SearchMethod};
@@ -54,7 +54,7 @@ fn main() -> helixreach::Result<()> {
     }
     let azimuths = azimuth_grid(get("--azimuths").map_or(1, |v| v.parse().expect("--azimuths")));
     if let Some(v) = get("--step") {
-        rig.planner.self_motion_step = v.parse().expect("--step");
+        rig.planner.search_step = v.parse().expect("--step");
     }
     let mut exact_rig = rig.clone();
     exact_rig.planner.search = SearchMethod::Exact;

@@ -22,6 +22,7 @@
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
 //! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
 //! | search nodes per ray (rig `planner.max_search_nodes`) | [`MAX_SEARCH_NODES`] = 9,000,000 | ≈ 1 GiB |
+//! | the search's self-motion step (rig `planner.search_step`) | ≤ `planner.max_joint_step`, and coarse enough that one slice's cover (16 curves of length 2π at 0.6 of the step) fits `planner.max_search_nodes` ([`crate::planning::search::check_resolution`]) | nodes per slice ∝ 1 / step |
 //! | halvings of a slice interval by a search bridge (rig `planner.bridge_halvings`) | [`MAX_BRIDGE_HALVINGS`] = 8 | at most 2⁸ tracks per bridge |
 //! | collision mesh files ([`crate::robot::mesh`]) | [`MAX_MESH_FILE_BYTES`] = 64 MiB, [`MAX_MESH_TRIANGLES`] = 1,000,000 triangles | bounded memory |
 //! | rig TOML counts (`roll.samples`, `planner.redundancy_samples`, `planner.rod_capsules`) | [`MAX_RIG_COUNT`] = 10,000 | per ray, per waypoint |

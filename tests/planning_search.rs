@@ -35,6 +35,7 @@ fn coarse_rig(n: usize, step: Real) -> Rig {
     p.waypoints = n;
     p.max_joint_step = 0.3;
     p.self_motion_step = step;
+    p.search_step = step;
     p.segment_check_step = 0.05;
     p.rod_capsules = 12;
     rig
@@ -437,9 +438,9 @@ fn search_bounds_are_stated() {
     }
     assert!(undecided > 0);
     rig.planner.max_search_nodes = 1000;
-    rig.planner.self_motion_step = 0.01;
+    rig.planner.search_step = 0.01;
     let e = Planner::new(rig).unwrap_err().to_string();
-    assert!(e.contains("planner.self_motion_step"), "{e}");
+    assert!(e.contains("planner.search_step"), "{e}");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
     let text = std::fs::read_to_string(dir.join("sawyer-seed.toml")).unwrap();
     let bad = text.replacen("search = \"ladder\"", "search = \"exhaustive\"", 1);

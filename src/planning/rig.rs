@@ -326,7 +326,8 @@ pub struct PlannerSettings {
     /// ([`crate::planning::self_motion`]).
     pub allow_reconfiguration: bool,
     /// Largest joint step (max-norm, rad) of the exploration walk along the self-motion manifold
-    /// (its sampling resolution); the executed reconfiguration is resampled finer.
+    /// (its sampling resolution) of the ladder and of the start set; the executed
+    /// reconfiguration is resampled finer. The search's is `search_step`.
     pub self_motion_step: Real,
     /// Time the rod is held at the end of loading before unloading (s).
     pub hold_time: Real,
@@ -341,6 +342,11 @@ pub struct PlannerSettings {
     /// slices (a bridge through intermediate poses, like the ladder's refinement; 0: fixed
     /// slices).
     pub bridge_halvings: usize,
+    /// The search only: its self-motion resolution (max-norm, rad): samples at most this far
+    /// apart along each self-motion curve, two within 0.6 of it one node
+    /// ([`crate::planning::search`]); every edge's joint-linear segment is still checked every
+    /// `segment_check_step`. At most `max_joint_step`.
+    pub search_step: Real,
 }
 
 impl PlannerSettings {
@@ -415,6 +421,7 @@ impl Default for PlannerSettings {
             allow_backoff: true,
             max_search_nodes: 1_000_000,
             bridge_halvings: 4,
+            search_step: 0.04,
         }
     }
 }
@@ -781,6 +788,7 @@ struct RawPlanner {
     allow_backoff: Option<bool>,
     max_search_nodes: Option<usize>,
     bridge_halvings: Option<usize>,
+    search_step: Option<Real>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1201,13 +1209,22 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             p.bridge_halvings.unwrap_or(d.bridge_halvings),
             0,
         )?,
+        search_step: c.positive(
+            "planner.search_step",
+            p.search_step.unwrap_or(d.search_step),
+        )?,
     };
-    if planner.self_motion_step > max_joint_step {
-        return Err(c.err(
-            "planner.self_motion_step",
-            planner.self_motion_step,
-            &format!("must be ≤ planner.max_joint_step = {max_joint_step}"),
-        ));
+    for (field, v) in [
+        ("planner.self_motion_step", planner.self_motion_step),
+        ("planner.search_step", planner.search_step),
+    ] {
+        if v > max_joint_step {
+            return Err(c.err(
+                field,
+                v,
+                &format!("must be ≤ planner.max_joint_step = {max_joint_step}"),
+            ));
+        }
     }
 
     Ok(Rig {
@@ -1330,6 +1347,16 @@ mod tests {
                 "max_joint_step = 0.05",
                 "max_joint_step = 0.0",
                 "planner.max_joint_step",
+            ),
+            (
+                "search_step = 0.04",
+                "search_step = 0.08",
+                "planner.search_step",
+            ),
+            (
+                "search_step = 0.04",
+                "search_step = -0.04",
+                "planner.search_step",
             ),
             ("type = \"box\"", "type = \"cone\"", "cone"),
             (

@@ -122,6 +122,7 @@ struct OutPlanner<'a> {
     allow_backoff: bool,
     max_search_nodes: usize,
     bridge_halvings: usize,
+    search_step: Real,
 }
 
 fn arr(v: &crate::math::Vec3) -> [Real; 3] {
@@ -213,6 +214,7 @@ impl Rig {
                 allow_backoff: pl.allow_backoff,
                 max_search_nodes: pl.max_search_nodes,
                 bridge_halvings: pl.bridge_halvings,
+                search_step: pl.search_step,
             },
             obstacles: &self.obstacles,
         };

@@ -3,7 +3,7 @@
 //! # Nodes and resolution
 //! A node is a configuration ([`super::linking::Config`]) reached by an accepted edge (or a
 //! start). A new configuration is **the same node** as an existing one of the same slice when
-//! every joint differs by at most `MERGE_FRACTION`·h (h = `planner.self_motion_step`) and the
+//! every joint differs by at most `MERGE_FRACTION`·h (h = `planner.search_step`) and the
 //! roll by at most `MERGE_FRACTION`·`ROLL_STEP`: the valid set of a slice is represented by
 //! samples at most about h apart along each self-motion curve (roll `fixed`, 7-DOF), by a
 //! grid-like cover of h × `ROLL_STEP` (roll `motor`), or by its isolated points (6-DOF).

@@ -14,7 +14,7 @@
 //!   Gauss–Newton step converges quadratically.
 //! - **Walk** (inside slice i, roll held; 7-DOF arms): one predictor–corrector step along the
 //!   self-motion curve of the held pose in either direction, predictor `q ± h·n̂` (n̂ the
-//!   cofactor null direction of the Jacobian, max-norm 1; h = `planner.self_motion_step`, halved
+//!   cofactor null direction of the Jacobian, max-norm 1; h = `planner.search_step`, halved
 //!   down to `WALK_MIN_STEP` when the corrector jumps; the rule of
 //!   [`crate::planning::self_motion`]).
 //! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same
@@ -106,7 +106,7 @@ impl<'a> Linker<'a> {
             solver: IkSolver::new(&planner.model, planner.ik.clone().tracking())?,
             ws: planner.collision.workspace(),
             jac: Jacobian::zeros(),
-            step: planner.rig.planner.self_motion_step,
+            step: planner.rig.planner.search_step,
             null: None,
             bridge: Vec::new(),
             rod: vec![Vec3::zeros(); planner.rig.planner.rod_capsules + 1],
