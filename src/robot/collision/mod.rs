@@ -94,8 +94,8 @@ pub struct Contact {
 pub struct CollisionWorkspace {
     frames: Vec<Frame>,
     posed: Vec<Posed>,
-    /// The last rod's segments and chunk balls (rebuilt when the rod changes).
-    rod: std::cell::RefCell<walk::RodChunks>,
+    /// The last two rods' segments and chunk balls (rebuilt when a third rod comes).
+    rod: std::cell::RefCell<walk::RodCache>,
 }
 
 /// The collision model of a robot plus its scene (see the module docs). Immutable, `Send + Sync`.

@@ -116,13 +116,15 @@ pub(super) struct RodChunks {
 }
 
 impl RodChunks {
-    /// Build for `rod` unless already built for it (no allocation once the buffers have grown
-    /// to the rod's size).
-    fn prepare(&mut self, rod: &RodGeometry<'_>) {
+    /// Whether built for `rod`.
+    fn holds(&self, rod: &RodGeometry<'_>) -> bool {
         let params = [rod.radius, rod.ignore_near_clamp, rod.ignore_near_tool];
-        if self.built && self.params == params && self.nodes.as_slice() == rod.nodes {
-            return;
-        }
+        self.built && self.params == params && self.nodes.as_slice() == rod.nodes
+    }
+
+    /// Build for `rod` (no allocation once the buffers have grown to the rod's size).
+    fn build(&mut self, rod: &RodGeometry<'_>) {
+        let params = [rod.radius, rod.ignore_near_clamp, rod.ignore_near_tool];
         self.nodes.clear();
         self.nodes.extend_from_slice(rod.nodes);
         self.params = params;
@@ -147,6 +149,33 @@ impl RodChunks {
             self.balls.push((c, r, k * ROD_CHUNK + chunk.len()));
         }
         self.built = true;
+    }
+}
+
+/// The chunks of the last two rods checked: a search step checks a configuration against the
+/// rod of its slice and the segment to it against the neighbouring slice's, so one entry would
+/// be rebuilt at every step.
+#[derive(Clone, Debug, Default)]
+pub(super) struct RodCache {
+    entries: [RodChunks; 2],
+    /// The entry used last.
+    last: usize,
+}
+
+impl RodCache {
+    /// The chunks of `rod`, built into the entry used less recently unless one holds it.
+    fn get(&mut self, rod: &RodGeometry<'_>) -> &RodChunks {
+        let k = if self.entries[self.last].holds(rod) {
+            self.last
+        } else if self.entries[1 - self.last].holds(rod) {
+            1 - self.last
+        } else {
+            let k = 1 - self.last;
+            self.entries[k].build(rod);
+            k
+        };
+        self.last = k;
+        &self.entries[k]
     }
 }
 
@@ -209,8 +238,8 @@ impl CollisionModel {
             }
             return ControlFlow::Continue(());
         }
-        let mut prep = ws.rod.borrow_mut();
-        prep.prepare(rod);
+        let mut cache = ws.rod.borrow_mut();
+        let prep = cache.get(rod);
         let mut first = 0;
         for &(c, r, end) in &prep.balls {
             let mut mask = 0u64;
@@ -386,8 +415,9 @@ mod tests {
     }
 
     /// The workspace's rod chunks follow the rod: one buffer rewritten in place between checks
-    /// with the same ignored ends, and the same nodes with other ignored ends, report the hits
-    /// of a fresh workspace (the chunks built anew), over rods some of which hit.
+    /// with the same ignored ends, the same nodes with other ignored ends, and rods coming back
+    /// after one or two others (the cache's other entry, and its eviction) report the hits of a
+    /// fresh workspace (the chunks built anew), over rods some of which hit.
     #[test]
     fn rod_chunks_follow_the_rod() {
         let m = RobotModel::load("sawyer", None).unwrap();
@@ -429,7 +459,7 @@ mod tests {
                 against_scene: false,
             };
             let kept = CollisionModel::run(|v: &mut FirstHit| cm.walk_rod(&ws, &rod, v)).0;
-            *fresh.rod.borrow_mut() = RodChunks::default();
+            *fresh.rod.borrow_mut() = RodCache::default();
             let anew = CollisionModel::run(|v: &mut FirstHit| cm.walk_rod(&fresh, &rod, v)).0;
             assert_eq!(kept, anew, "rod {k}, ignore_near_tool {near_tool}");
             by_end[k][usize::from(near_tool > 0.1) + usize::from(near_tool > 0.3)] = kept.is_some();
@@ -449,6 +479,20 @@ mod tests {
         for k in 0..100 {
             for near_tool in [0.05, 0.2, 0.4] {
                 check(k, near_tool, &mut nodes);
+            }
+        }
+        // Rods coming back: after one other rod (held by the other entry), after two (evicted).
+        for k in 0..100 {
+            let (a, b) = ((k + 37) % 100, (k + 71) % 100);
+            for (j, near_tool) in [
+                (k, 0.05),
+                (a, 0.05),
+                (k, 0.05),
+                (b, 0.2),
+                (a, 0.05),
+                (k, 0.4),
+            ] {
+                check(j, near_tool, &mut nodes);
             }
         }
         assert!(hits >= 30 && misses >= 30, "hits {hits}, misses {misses}");
