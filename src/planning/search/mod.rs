@@ -85,11 +85,12 @@
 //! A ray costs its nodes × about 1.5 tracks (3–4 Jacobian evaluations each) and 3 collision
 //! tests (a node per self-motion step per slice of the pieces it visits, most made by a back-off
 //! or load step from the neighbouring slice; the move back to a node's parent slice is its own
-//! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice. A partial
-//! ray costs its reachable piece, or the far piece if that one is exhausted first: cheap when
-//! either is small, 200,000–230,000 nodes (1.5–2.5 s, 7–12 µs per node) when both are large regions of the strip
-//! below s* (different self-motion families); those few rays dominate a sweep's CPU.
-//! Figures: `docs/RESULTS.md`.
+//! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice.
+//! A partial ray costs its reachable piece, or the far piece if that one is exhausted first:
+//! cheap when either is small; when both are large regions of the strip below s* (different
+//! self-motion families; on the seed rig rays blocked just past s*) about 100,000–120,000
+//! nodes at `search_step` 0.04 (≈ 1 s, 8–11 µs per node; the count goes as 1/`search_step`),
+//! and those few rays dominate a sweep's CPU. Figures: `docs/RESULTS.md`.
 
 pub(crate) mod graph;
 pub(crate) mod linking;
