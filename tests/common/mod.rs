@@ -1,7 +1,9 @@
 //! Helpers shared by the integration tests: the seed experiment's real data, kept as a subset
 //! in the repository (`tests/data/seed/`, see its `SOURCE.md`) and unpacked into the build's
-//! test folder on first use ([`seed`]). Nothing is read from outside the repository.
+//! test folder on first use ([`seed`]), and the dense reference of a ray's reachability
+//! ([`dense_reference`]). Nothing is read from outside the repository.
 
+pub mod dense_reference;
 pub mod png;
 pub mod robots;
 pub mod seed;
