@@ -404,8 +404,9 @@ fn search_bridges_where_the_ladder_refines() {
     assert_path_valid(&bridged, &d, s, &b);
 }
 
-/// The node bound makes a ray `undecided`, never a guessed class; a self-motion step the bound
-/// cannot cover one slice at is refused, naming the setting.
+/// The node bound makes a ray `undecided`, never a guessed class, and never makes roll `motor`
+/// report less than `fixed`; a self-motion step the bound cannot cover one slice at is refused,
+/// naming the setting.
 #[test]
 fn search_bounds_are_stated() {
     let mut rig = coarse_rig(200, 0.1);
@@ -415,7 +416,7 @@ fn search_bounds_are_stated() {
     // Rays whose unbounded search needs more than 1,700 nodes are undecided under the bound;
     // the others keep their class, or are undecided when the bound cut their far-end search
     // short (never another class).
-    let mut undecided = 0;
+    let (mut undecided, mut motor_cut) = (0, 0);
     for d in fibonacci(200, true).unwrap().into_iter().step_by(5) {
         let s = s_star(&d);
         let full = free.plan_ray(&d, s, 0.0, RollMode::Fixed, false).unwrap();
@@ -423,6 +424,18 @@ fn search_bounds_are_stated() {
             .plan_ray(&d, s, 0.0, RollMode::Fixed, false)
             .unwrap();
         assert!(p.search_nodes <= 1700);
+        // Roll `motor` under the same bound never reports less than `fixed` (a `fixed` path is
+        // a `motor` path), also where its own search is cut by the bound.
+        let m = planner
+            .plan_ray(&d, s, 0.0, RollMode::Motor, false)
+            .unwrap();
+        assert!(
+            m.s_reached >= p.s_reached,
+            "{d:?}: motor {m:?} vs fixed {p:?}"
+        );
+        if m.class == ReachClass::Undecided && p.class == ReachClass::Partial {
+            motor_cut += 1;
+        }
         if full.search_nodes > 1700 {
             assert_eq!(p.class, ReachClass::Undecided, "{d:?}");
             assert!(p.cause.is_none());
@@ -437,6 +450,10 @@ fn search_bounds_are_stated() {
         }
     }
     assert!(undecided > 0);
+    assert!(
+        motor_cut > 0,
+        "no motor search cut by the bound on a partial fixed ray"
+    );
     rig.planner.max_search_nodes = 1000;
     rig.planner.search_step = 0.01;
     let e = Planner::new(rig).unwrap_err().to_string();

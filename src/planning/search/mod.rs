@@ -67,7 +67,8 @@
 //!
 //! # Monotone by construction
 //! - roll `motor` ⊇ `fixed`: a `motor` ray returns the farther of its `fixed` decision and its
-//!   own search;
+//!   own search (a `motor` search that hits its bound is `undecided` at the farther s of the
+//!   two);
 //! - more azimuths ⊇ fewer: [`Planner::plan_best`] keeps the best over the azimuths;
 //!
 //! Back-off allowed ⊇ forbidden holds for the reachable sets (every edge of the forbidden graph
@@ -364,7 +365,20 @@ impl Planner {
         }
         let native = self.decide_in(dir, s_star, azimuth, RollMode::Motor, want_path)?;
         let better = (rank(native.class), native.s_reached) > (rank(fixed.class), fixed.s_reached);
-        Ok(if better { native } else { fixed })
+        Ok(if !better {
+            fixed
+        } else if native.class == ReachClass::Undecided && fixed.s_reached > native.s_reached {
+            // The motor search hit its bound before passing the `fixed` path, which is a
+            // `motor` path too: undecided, from the farther s found (that path).
+            RayPlan {
+                class: ReachClass::Undecided,
+                cause: None,
+                search_nodes: native.search_nodes,
+                ..fixed
+            }
+        } else {
+            native
+        })
     }
 
     fn decide_in(
