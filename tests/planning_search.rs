@@ -196,39 +196,54 @@ fn slice_of(rig: &Rig, d: &Direction, s: Real) -> usize {
 /// the search reaches at least the brute force's farthest slice (its self-motion closure is a
 /// walk along the curve; the reference's bisection between grid points can miss a joint near a
 /// fold of j0, so the reference may stop earlier, never later), on every 25th direction of the
-/// 200-direction quarter-sphere lattice, 24 slices each.
+/// 200-direction quarter-sphere lattice, 24 slices each; at a self-motion step of 0.05 rad and
+/// of 0.36 rad (over 0.8 of the joint-step bound: every walk a chain of two sub-steps).
 #[test]
 fn search_agrees_with_the_brute_force_reference() {
     let mut rig = coarse_rig(24, 0.05);
     rig.planner.allow_backoff = false;
     // The reference joins neighbouring slices only: the search on the same fixed slices.
     rig.planner.bridge_halvings = 0;
+    let mut chained = rig.clone();
+    chained.planner.search_step = 0.36;
+    let chained = Planner::new(chained).unwrap();
     let planner = Planner::new(rig.clone()).unwrap();
     let dirs: Vec<Direction> = fibonacci(200, true)
         .unwrap()
         .into_iter()
         .step_by(25)
         .collect();
-    let res: Vec<(usize, usize, ReachClass)> = dirs
+    let res: Vec<(usize, usize, ReachClass, usize, ReachClass)> = dirs
         .par_iter()
         .map(|d| {
             let p = planner
                 .plan_ray(d, s_star(d), 0.0, RollMode::Fixed, false)
                 .unwrap();
+            let c = chained
+                .plan_ray(d, s_star(d), 0.0, RollMode::Fixed, false)
+                .unwrap();
             let b = brute_force_farthest(&rig, &planner, d, 0.1);
-            (slice_of(&rig, d, p.s_reached), b, p.class)
+            (
+                slice_of(&rig, d, p.s_reached),
+                b,
+                p.class,
+                slice_of(&rig, d, c.s_reached),
+                c.class,
+            )
         })
         .collect();
     let mut testable = 0;
-    for (d, (s, b, class)) in dirs.iter().zip(&res) {
-        eprintln!("{d:?}: search slice {s} ({class:?}), brute force {b}");
-        let b_testable = *b == 23;
-        assert_eq!(
-            *class == ReachClass::Testable,
-            b_testable,
-            "{d:?}: {s} vs {b}"
-        );
-        assert!(s >= b, "{d:?}: search {s}, brute force {b}");
+    for (d, &(s, b, class, sc, cc)) in dirs.iter().zip(&res) {
+        eprintln!("{d:?}: search slice {s} ({class:?}), chained {sc} ({cc:?}), brute force {b}");
+        let b_testable = b == 23;
+        for (s, class) in [(s, class), (sc, cc)] {
+            assert_eq!(
+                class == ReachClass::Testable,
+                b_testable,
+                "{d:?}: {s} vs {b}"
+            );
+            assert!(s >= b, "{d:?}: search {s}, brute force {b}");
+        }
         testable += usize::from(b_testable);
     }
     assert!(
@@ -349,21 +364,30 @@ fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) 
 }
 
 /// Paths of the testable rays of a coarse rig (24 slices: most edges are bridges) are valid
-/// ([`assert_path_valid`]).
+/// ([`assert_path_valid`]), at a self-motion step of 0.1 rad and of 0.36 rad (every walk a
+/// chain of two sub-steps, each resampled on the path); with reconfiguration on some of them.
 #[test]
 fn search_paths_are_valid() {
-    let planner = Planner::new(coarse_rig(24, 0.1)).unwrap();
-    let mut checked = 0;
-    for d in fibonacci(200, true).unwrap().into_iter().step_by(20) {
-        let s = s_star(&d);
-        let plan = planner.plan_ray(&d, s, 0.0, RollMode::Fixed, true).unwrap();
-        if plan.class != ReachClass::Testable {
-            continue;
+    let mut chained = coarse_rig(24, 0.1);
+    chained.planner.search_step = 0.36;
+    for rig in [coarse_rig(24, 0.1), chained] {
+        let planner = Planner::new(rig).unwrap();
+        let (mut checked, mut reconfigured) = (0, 0);
+        for d in fibonacci(200, true).unwrap().into_iter().step_by(20) {
+            let s = s_star(&d);
+            let plan = planner.plan_ray(&d, s, 0.0, RollMode::Fixed, true).unwrap();
+            if plan.class != ReachClass::Testable {
+                continue;
+            }
+            checked += 1;
+            reconfigured += usize::from(plan.reconfigurations > 0);
+            assert_path_valid(&planner, &d, s, &plan);
         }
-        checked += 1;
-        assert_path_valid(&planner, &d, s, &plan);
+        assert!(
+            checked >= 3 && reconfigured >= 1,
+            "{checked} testable rays checked, {reconfigured} with reconfiguration"
+        );
     }
-    assert!(checked >= 3, "{checked} testable rays checked");
 }
 
 /// Where no single step joins two slices near a ray's end, the ladder inserts midpoint poses

@@ -344,8 +344,9 @@ pub struct PlannerSettings {
     pub bridge_halvings: usize,
     /// The search only: its self-motion resolution (max-norm, rad): samples at most this far
     /// apart along each self-motion curve, two within 0.6 of it one node
-    /// ([`crate::planning::search`]); every edge's joint-linear segment is still checked every
-    /// `segment_check_step`. At most `max_joint_step`.
+    /// ([`crate::planning::search`]). A walk between samples longer than 0.8·`max_joint_step`
+    /// is a chain of sub-steps within that, each checked like any edge (every
+    /// `segment_check_step`). At most [`crate::planning::search::MAX_SEARCH_STEP`].
     pub search_step: Real,
 }
 
@@ -421,7 +422,7 @@ impl Default for PlannerSettings {
             allow_backoff: true,
             max_search_nodes: 1_000_000,
             bridge_halvings: 4,
-            search_step: 0.04,
+            search_step: 0.16,
         }
     }
 }
@@ -1214,17 +1215,22 @@ fn validate(raw: RawRig, source: &str, dir: &Path) -> Result<Rig> {
             p.search_step.unwrap_or(d.search_step),
         )?,
     };
-    for (field, v) in [
-        ("planner.self_motion_step", planner.self_motion_step),
-        ("planner.search_step", planner.search_step),
-    ] {
-        if v > max_joint_step {
-            return Err(c.err(
-                field,
-                v,
-                &format!("must be ≤ planner.max_joint_step = {max_joint_step}"),
-            ));
-        }
+    if planner.self_motion_step > max_joint_step {
+        return Err(c.err(
+            "planner.self_motion_step",
+            planner.self_motion_step,
+            &format!("must be ≤ planner.max_joint_step = {max_joint_step}"),
+        ));
+    }
+    let max_search_step = crate::planning::search::MAX_SEARCH_STEP;
+    if planner.search_step > max_search_step {
+        return Err(c.err(
+            "planner.search_step",
+            planner.search_step,
+            &format!(
+                "must be ≤ {max_search_step} rad (helixreach::planning::search::MAX_SEARCH_STEP)"
+            ),
+        ));
     }
 
     Ok(Rig {
@@ -1349,12 +1355,12 @@ mod tests {
                 "planner.max_joint_step",
             ),
             (
-                "search_step = 0.04",
-                "search_step = 0.08",
+                "search_step = 0.16",
+                "search_step = 0.5",
                 "planner.search_step",
             ),
             (
-                "search_step = 0.04",
+                "search_step = 0.16",
                 "search_step = -0.04",
                 "planner.search_step",
             ),

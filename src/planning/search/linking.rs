@@ -12,11 +12,14 @@
 //!   start undamped
 //!   ([`crate::robot::IkParams::tracking`]): from a neighbouring slice's solution the
 //!   Gauss–Newton step converges quadratically.
-//! - **Walk** (inside slice i, roll held; 7-DOF arms): one predictor–corrector step along the
-//!   self-motion curve of the held pose in either direction, predictor `q ± h·n̂` (n̂ the
-//!   cofactor null direction of the Jacobian, max-norm 1; h = `planner.search_step`, halved
-//!   down to `WALK_MIN_STEP` when the corrector jumps; the rule of
-//!   [`crate::planning::self_motion`]).
+//! - **Walk** (inside slice i, roll held; 7-DOF arms): a step of h = `planner.search_step`
+//!   along the self-motion curve of the held pose in either direction. Within
+//!   `WALK_SUB_FRACTION`·`planner.max_joint_step` it is one predictor–corrector step,
+//!   predictor `q ± h·n̂` (n̂ the cofactor null direction of the Jacobian, max-norm 1), halved
+//!   down to `WALK_MIN_STEP` when the corrector jumps (the rule of
+//!   [`crate::planning::self_motion`]); a longer h is a chain of equal sub-steps within that
+//!   bound, each such a step from the last, its end and segment checked, the chain ending at
+//!   its last accepted point ([`Linker::walk`]).
 //! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same
 //!   rod-end pose (the motor turns the other way, m = ω/c − ψ).
 //!
@@ -34,6 +37,9 @@ use crate::planning::pose_path::Waypoint;
 use crate::planning::self_motion::{null_direction, Q};
 use crate::planning::witness::WALK_MIN_STEP;
 use crate::robot::{CollisionWorkspace, IkSolver, IkTarget, Jacobian};
+
+/// Longest sub-step of a walk, as a fraction of `planner.max_joint_step` ([`Linker::walk`]).
+pub(crate) const WALK_SUB_FRACTION: Real = 0.8;
 
 /// Roll step of the moves inside a slice in roll `motor` (rad).
 pub(crate) const ROLL_STEP: Real = 0.05;
@@ -155,12 +161,10 @@ impl<'a> Linker<'a> {
             _ => return Ok(None),
         };
         let target = self.slices.target(self.planner, slice, psi);
-        let q = if let Move::Walk(sign) = mv {
-            match self.walk_step(&target, x, Real::from(sign), known) {
-                Some(q) => q,
-                None => return Ok(None),
-            }
-        } else {
+        if let Move::Walk(sign) = mv {
+            return Ok(self.walk(&target, x, Real::from(sign), known));
+        }
+        let q = {
             let tracked = self.track(&target, &x.q);
             match tracked {
                 Some(q) if self.max_step(&x.q, &q) <= bound => q,
@@ -297,41 +301,29 @@ impl<'a> Linker<'a> {
                 .is_ok()
     }
 
-    /// One predictor–corrector step along the self-motion curve of `target` from `q` (module
-    /// docs); `None` on a non-redundant arm, at a singularity, when no step down to
-    /// `WALK_MIN_STEP` is accepted, or when the full-step predictor lies on a known node (the
-    /// predictor is within O(h²) of the curve: that stretch is already sampled).
-    fn walk_step(
-        &mut self,
-        target: &IkTarget,
-        x: &Config,
-        sign: Real,
-        known: &dyn Fn(&Config) -> bool,
-    ) -> Option<Q> {
-        let q = &x.q;
+    /// The null direction of the Jacobian at `q` (cofactor orientation, max-norm 1); `None` at
+    /// a singularity.
+    fn null_at(&mut self, q: &Q) -> Option<Q> {
         let dof = self.planner.dof;
-        let n = match self.null {
-            Some((at, n)) if at == *q => n,
-            _ => {
-                self.planner
-                    .model
-                    .chain()
-                    .jacobian(&q[..dof], &mut self.jac);
-                let n = fast_null_direction(&self.jac, dof)
-                    .or_else(|| null_direction(&self.jac, dof))?;
-                self.null = Some((*q, n));
-                n
-            }
-        };
+        self.planner
+            .model
+            .chain()
+            .jacobian(&q[..dof], &mut self.jac);
+        fast_null_direction(&self.jac, dof).or_else(|| null_direction(&self.jac, dof))
+    }
+
+    /// One predictor–corrector step of at most `h` from `q` along the null direction `n`
+    /// (orientation `sign`): predictor `q ± h·n`, corrected by a minimum-norm track onto
+    /// `target`, halved down to `WALK_MIN_STEP` until the corrected point moves forward along
+    /// `n`, by at least a quarter of the predictor's step and within the joint-step bound.
+    fn corrector(&self, target: &IkTarget, q: &Q, sign: Real, n: &Q, h: Real) -> Option<Q> {
+        let dof = self.planner.dof;
         let bound = self.planner.rig.planner.max_joint_step;
-        let mut h = self.step;
+        let mut h = h;
         while h >= WALK_MIN_STEP {
             let mut pred = *q;
             for j in 0..dof {
                 pred[j] += sign * h * n[j];
-            }
-            if h == self.step && known(&Config { q: pred, ..*x }) {
-                return None;
             }
             if let Some(p) = self.track(target, &pred) {
                 let step = self.max_step(&p, q);
@@ -343,6 +335,80 @@ impl<'a> Linker<'a> {
             h *= 0.5;
         }
         None
+    }
+
+    /// The walk move from `x` along the self-motion curve of `target` (module docs): `None` on
+    /// a non-redundant arm, at a singularity, when the first sub-step is not accepted, or when
+    /// the full-step predictor `q ± h·n̂` lies on a known node (the predictor is within O(h²)
+    /// of the curve: that stretch is already sampled).
+    ///
+    /// A step `h` = `planner.search_step` within `WALK_SUB_FRACTION` of the joint-step bound
+    /// is one corrected step, checked by the caller ([`Proposal::Step`]). A longer step is a
+    /// chain of k = ⌈h / (`WALK_SUB_FRACTION`·bound)⌉ equal sub-steps, each corrected from the
+    /// last (its null direction oriented along the previous one), its end valid and its
+    /// joint-linear segment collision-free ([`Linker::accept`]); the chain stops at the first
+    /// sub-step that fails and ends at the last accepted point ([`Proposal::Bridged`], the
+    /// intermediate points in [`Linker::bridge`]). A walk edge of any `search_step` is thus
+    /// checked as finely as one of `WALK_SUB_FRACTION`·`planner.max_joint_step`.
+    fn walk(
+        &mut self,
+        target: &IkTarget,
+        x: &Config,
+        sign: Real,
+        known: &dyn Fn(&Config) -> bool,
+    ) -> Option<Proposal> {
+        let q = &x.q;
+        let dof = self.planner.dof;
+        let n0 = match self.null {
+            Some((at, n)) if at == *q => n,
+            _ => {
+                let n = self.null_at(q)?;
+                self.null = Some((*q, n));
+                n
+            }
+        };
+        let h = self.step;
+        let mut pred = *q;
+        for j in 0..dof {
+            pred[j] += sign * h * n0[j];
+        }
+        if known(&Config { q: pred, ..*x }) {
+            return None;
+        }
+        let sub_max = WALK_SUB_FRACTION * self.planner.rig.planner.max_joint_step;
+        if h <= sub_max {
+            let p = self.corrector(target, q, sign, &n0, h)?;
+            return Some(Proposal::Step(Config { q: p, ..*x }));
+        }
+        let k = (h / sub_max).ceil();
+        let sub = h / k;
+        let wp = &self.slices.wps[x.slice as usize];
+        self.bridge.clear();
+        let (mut cur, mut n) = (*q, n0);
+        for m in 0..k as usize {
+            if m > 0 {
+                let Some(mut nm) = self.null_at(&cur) else {
+                    break;
+                };
+                if (0..dof).map(|j| nm[j] * n[j]).sum::<Real>() < 0.0 {
+                    for v in nm.iter_mut() {
+                        *v = -*v;
+                    }
+                }
+                n = nm;
+            }
+            let Some(p) = self.corrector(target, &cur, sign, &n, sub) else {
+                break;
+            };
+            let (a, b) = (Config { q: cur, ..*x }, Config { q: p, ..*x });
+            if self.accept(&a, &b).is_err() {
+                break;
+            }
+            self.bridge.push((wp.clone(), p));
+            cur = p;
+        }
+        let (_, end) = self.bridge.pop()?;
+        Some(Proposal::Bridged(Config { q: end, ..*x }))
     }
 }
 
@@ -380,7 +446,76 @@ fn fast_null_direction(jac: &Jacobian, dof: usize) -> Option<Q> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::robot::RobotModel;
+    use crate::planning::rig::{Rig, RollMode};
+    use crate::robot::{CollisionModel, RobotModel};
+
+    /// A walk of `search_step` 0.16 rad on the seed rig (joint-step bound 0.05) is a chain of
+    /// four equal sub-steps: every point holds the slice's pose (1e-9 m / rad), every sub-step
+    /// is within the joint-step bound and at least a quarter of its predictor, every point is
+    /// collision-free against the slice's rod (a collision model of the test's own), and the
+    /// chain ends farther from its start than the merge radius (it is a new sample). From
+    /// starts spread over every start component, both directions.
+    #[test]
+    fn a_long_walk_is_a_chain_of_checked_sub_steps() {
+        let mut rig = Rig::load("sawyer-seed").unwrap();
+        rig.planner.search_step = 0.16;
+        let bound = rig.planner.max_joint_step;
+        let planner = Planner::new(rig.clone()).unwrap();
+        let dir = crate::directions::fibonacci(200, true).unwrap()[100];
+        let s_star = crate::boundary::continuum::critical_s(&dir, 1e-10)
+            .unwrap()
+            .s_star;
+        let slices = Slices::new(&planner, &dir, s_star, 0.0).unwrap();
+        let mut linker = Linker::new(&planner, &slices).unwrap();
+        let mut cm = CollisionModel::for_model(planner.model()).unwrap();
+        cm.set_obstacles(&rig.obstacles).unwrap();
+        let mut ws = cm.workspace();
+        let rod = rig.rod_geometry(&slices.rods[0]);
+        let target = slices.target(&planner, 0, 0.0);
+        let set = planner.start(RollMode::Fixed).unwrap();
+        let (mut chains, mut full) = (0, 0);
+        for comp in &set.comps {
+            for n in comp.iter().step_by(7).take(4) {
+                let x = Config {
+                    slice: 0,
+                    q: n.q,
+                    psi: 0.0,
+                };
+                for sign in [1, -1] {
+                    let y = match linker.propose(&x, Move::Walk(sign), &|_| false) {
+                        Ok(Some(Proposal::Bridged(y))) => y,
+                        Ok(Some(Proposal::Step(_))) => panic!("a 0.16 rad walk in one step"),
+                        _ => continue,
+                    };
+                    let mut chain = vec![x.q];
+                    chain.extend(linker.bridge.iter().map(|(_, q)| *q));
+                    chain.push(y.q);
+                    chains += 1;
+                    full += usize::from(chain.len() == 5);
+                    assert!(chain.len() <= 5, "{} points", chain.len());
+                    for w in chain.windows(2) {
+                        let step = linker.max_step(&w[0], &w[1]);
+                        assert!(step <= bound && step >= 0.25 * 0.04 - 1e-12, "{step}");
+                    }
+                    for q in &chain[1..] {
+                        let (dp, dr) = target.errors(&planner.model().chain().tool_pose(&q[..7]));
+                        assert!(dp < 1e-9 && dr < 1e-9, "{dp:e} {dr:e}");
+                        assert!(cm.check(&q[..7], &mut ws, Some(&rod)).is_none());
+                    }
+                    if chain.len() == 5 {
+                        assert!(
+                            linker.max_step(&x.q, &y.q)
+                                > super::super::graph::MERGE_FRACTION * 0.16
+                        );
+                    }
+                }
+            }
+        }
+        assert!(
+            chains >= 6 && full >= 4,
+            "{chains} chains, {full} of four sub-steps"
+        );
+    }
 
     /// The one-solve null direction equals the seven-minor one (same orientation).
     #[test]

@@ -33,14 +33,18 @@
 //! # Resolution (what the answer is exact at)
 //! - **Slices**: the rig's pose-path waypoints (`planner.max_end_step`,
 //!   `planner.max_end_angle`), submodule `slices`.
-//! - **Self-motion**: samples at most `planner.search_step` (max-norm, default 0.04 rad) apart
-//!   along each curve; two samples within 0.6 of that step in every joint are one node
-//!   (submodule `graph`). The walk between two samples is an edge like any other (its segment
-//!   checked every `planner.segment_check_step`), so a coarser step samples fewer load and
-//!   back-off chains but does not skip collision tests. On the seed rig 0.02, 0.03, 0.04 and
-//!   0.05 rad give the same class and `s_reached` on every ray of the 200-direction
-//!   quarter-sphere sample and of the seed's 173 directions; the cost falls about as 1/h to
-//!   0.04 (`docs/RESULTS.md`).
+//! - **Self-motion**: samples at most `planner.search_step` (max-norm, default 0.16 rad) apart
+//!   along each self-motion curve; two samples within 0.6 of that step in every joint are one
+//!   node (submodule `graph`). The walk between two samples is an edge like any other: one
+//!   corrected step when the step is within 0.8·`planner.max_joint_step`, else a chain of
+//!   sub-steps within that, each end valid and each segment checked every
+//!   `planner.segment_check_step` (submodule `linking`), so a coarser step samples fewer
+//!   nodes but walks and checks the curve between them as finely. What a coarser step can
+//!   miss is a valid arc shorter than about the step that no sample lands on. On the seed rig
+//!   0.04, 0.08, 0.12 and 0.16 rad give the same class on every ray of the 200-direction
+//!   quarter-sphere sample (`s_reached` one or two slices less on at most 3 of its 43 partial
+//!   rays) and the same answer on every one of the seed's 173 directions; the node count goes
+//!   as 1/step and the cost at 0.16 is 0.4 of that at 0.04 (`docs/RESULTS.md`).
 //! - **Roll** (`motor`): steps of `linking::ROLL_STEP`.
 //! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
 //!   the neighbouring slice, or a bridge of such tracks through intermediate poses; every step
@@ -111,6 +115,10 @@ use slices::Slices;
 /// Largest memory one ray's search may use (bytes): `planner.max_search_nodes` is refused
 /// above `MAX_SEARCH_BYTES / NODE_BYTES`.
 pub const MAX_SEARCH_BYTES: usize = 1 << 30;
+
+/// Largest `planner.search_step` (rad): at this step configurations up to 0.24 rad apart in
+/// every joint are one node (`MERGE_FRACTION`).
+pub const MAX_SEARCH_STEP: Real = 0.4;
 
 /// Redundancy-joint grid of the far-end slice's IK (rad).
 const LOCK_GRID: Real = 0.05;

@@ -4,8 +4,8 @@
 //! The chain runs from a start configuration (the last one at slice 0 before the first load
 //! step: the arm reaches any valid start before the rod is clamped) through load (`load`),
 //! inside-slice (`reconfigure`) and back-off (`backoff`) edges; a bridged edge
-//! ([`super::linking::Proposal::Bridged`]) adds its intermediate poses as points of its phase. A walk step inside a slice is
-//! resampled ([`self_motion::refine`]) so that the rod end stays within
+//! ([`super::linking::Proposal::Bridged`]) adds its intermediate poses as points of its phase. A walk step inside a slice (each
+//! sub-step of a chained walk) is resampled ([`self_motion::refine`]) so that the rod end stays within
 //! [`self_motion::HOLD_TOLERANCE`] on every joint-linear chord, and every resampled point and
 //! chord is checked again against the held rod; a roll step (roll `motor`) is one chord of at
 //! most `ROLL_STEP` of arm roll, which the motor compensates.
@@ -101,7 +101,8 @@ pub(crate) fn extract(
                 from = to;
                 from_q = q;
             }
-            if want_path {
+            let walk = n.via == Via::Reconfigure && n.c.psi == pn.psi;
+            if want_path && !walk {
                 for (w, q) in bridge {
                     out.push(PlannedPoint {
                         waypoint: w.clone(),
@@ -111,16 +112,21 @@ pub(crate) fn extract(
                     });
                 }
             }
-            if want_path && n.via == Via::Reconfigure && n.c.psi == pn.psi {
-                for q in refine_walk(planner, slices, linker, &pn.q, &n.c.q, n.c.slice, n.c.psi)? {
-                    out.push(point(
-                        slices,
-                        n.c.slice,
-                        &q,
-                        n.c.psi,
-                        dof,
-                        Phase::Reconfigure,
-                    ));
+            if want_path && walk {
+                // A walk's sub-steps (a chained walk's intermediate points), each resampled.
+                let mut a = pn.q;
+                for b in bridge.iter().map(|(_, q)| *q).chain(std::iter::once(n.c.q)) {
+                    for q in refine_walk(planner, slices, linker, &a, &b, n.c.slice, n.c.psi)? {
+                        out.push(point(
+                            slices,
+                            n.c.slice,
+                            &q,
+                            n.c.psi,
+                            dof,
+                            Phase::Reconfigure,
+                        ));
+                    }
+                    a = b;
                 }
                 prev = Some((n.via, i));
                 continue;
