@@ -169,20 +169,29 @@ fn bench_ray(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     });
     g.finish();
     // The search of the valid set (`planner.search = "exact"`) against the ladder, same rays:
-    // the testable ray above, and a quarter-sphere ray partial early (its next slice has no
+    // the testable ray above, a quarter-sphere ray partial early (its next slice has no
     // valid configuration: the certificate is cheap) — direction 10 of the 200-direction
-    // lattice.
-    let partial = helixreach::directions::fibonacci(200, true).unwrap()[10];
-    let s_partial = helixreach::boundary::continuum::critical_s(&partial, 1e-10)
-        .unwrap()
-        .s_star;
+    // lattice — and one blocked just past s* whose reachable and far pieces are both large
+    // regions below s* (direction 64: the search's costliest kind).
+    let lattice = helixreach::directions::fibonacci(200, true).unwrap();
+    let s_of = |d| {
+        helixreach::boundary::continuum::critical_s(d, 1e-10)
+            .unwrap()
+            .s_star
+    };
+    let (partial, large) = (lattice[10], lattice[64]);
+    let (s_partial, s_large) = (s_of(&partial), s_of(&large));
     let mut g = c.benchmark_group("decide_one_ray");
     g.sample_size(10);
     let mut rig = Rig::load("sawyer-seed").unwrap();
     rig.planner.search = SearchMethod::Exact;
     let exact = Planner::new(rig).unwrap();
     let ladder = planner(0);
-    for (name, dir, s) in [("testable", d, s_star), ("partial", partial, s_partial)] {
+    for (name, dir, s) in [
+        ("testable", d, s_star),
+        ("partial", partial, s_partial),
+        ("partial_two_large_pieces", large, s_large),
+    ] {
         for (method, p) in [("exact", &exact), ("ladder", &ladder)] {
             g.bench_function(format!("{name}_{method}"), |b| {
                 b.iter(|| black_box(p.plan_ray(&dir, s, 0.0, RollMode::Fixed, false).unwrap()))

@@ -93,9 +93,12 @@
 //! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice.
 //! A partial ray costs its reachable piece, or the far piece if that one is exhausted first:
 //! cheap when either is small; when both are large regions of the strip below s* (different
-//! self-motion families; on the seed rig rays blocked just past s*) about 100,000–120,000
-//! nodes at `search_step` 0.04 (≈ 1 s, 8–11 µs per node; the count goes as 1/`search_step`),
-//! and those few rays dominate a sweep's CPU. Figures: `docs/RESULTS.md`.
+//! self-motion families, separated by joint limits; on the seed rig rays blocked just past
+//! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.3 s, about 9 µs per node; the count
+//! goes as 1/`search_step`: 116,000 at 0.04), and those few rays dominate a sweep's CPU. In
+//! roll `motor` the pieces are 2-D per slice (self-motion × roll, a node per
+//! `search_step` × `ROLL_STEP`), and such rays exceed the default node bound. Figures:
+//! `docs/RESULTS.md`.
 
 pub(crate) mod graph;
 pub(crate) mod linking;
