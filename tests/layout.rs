@@ -468,3 +468,69 @@ fn end_pose_check_rules_out_only_untestable_rays() {
         }
     }
 }
+
+/// `layout --search exact` decides every ray by the search: the written placement rig says so,
+/// and its coverage equals an independent `reach` by the search at that rig; a bad `--search`
+/// value is an error naming the flag (exit 2) and writes nothing.
+#[test]
+fn layout_search_flag_decides_by_the_search() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("lay");
+    let dirs_csv = tmp.path().join("dirs.csv");
+    let dirs = seed_dirs();
+    let mut text = String::from("dir_kappa,dir_tau,dir_omega\n");
+    for d in &dirs {
+        text.push_str(&format!("{:?},{:?},{:?}\n", d.kappa, d.tau, d.omega));
+    }
+    std::fs::write(&dirs_csv, text).unwrap();
+    let cli = |search: &str, out: &Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_helixreach"))
+            .args(["--quiet", "layout", "--directions"])
+            .arg(&dirs_csv)
+            .args([
+                "--region",
+                "0.85:0.85,-0.1:-0.1,-0.144:-0.144",
+                "--placements",
+                "1",
+                "--search",
+                search,
+                "--out",
+            ])
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    let o = cli("exact", &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let placements = read(&out.join("placements.csv"));
+    let row = placements.lines().nth(1).expect("one placement");
+    let head: Vec<&str> = placements.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let fields: Vec<&str> = row.split(',').collect();
+    let covered: usize = fields[col("covered")].parse().unwrap();
+    let placed = Rig::load(out.join(fields[col("rig_file")]).to_str().unwrap()).unwrap();
+    assert_eq!(
+        placed.planner.search,
+        helixreach::planning::rig::SearchMethod::Exact
+    );
+    let planner = Planner::new(placed.clone()).unwrap();
+    let testable = dirs
+        .iter()
+        .filter(|d| {
+            let s = helixreach::boundary::continuum::critical_s(d, 1e-10)
+                .unwrap()
+                .s_star;
+            planner
+                .plan_best(d, s, &placed.azimuths, placed.roll, false)
+                .unwrap()
+                .class
+                == helixreach::planning::planner::ReachClass::Testable
+        })
+        .count();
+    assert_eq!(covered, testable);
+    let bad = tmp.path().join("bad");
+    let o = cli("fast", &bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--search"));
+    assert!(!bad.exists());
+}

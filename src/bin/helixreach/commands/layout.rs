@@ -49,6 +49,10 @@ pub struct Args {
     /// Try N azimuths per ray (default: the rig's choices).
     #[arg(long)]
     pub azimuths: Option<usize>,
+    /// How each ray is decided: `ladder` or `exact` (the search of the valid set; overrides the
+    /// rig's `planner.search`).
+    #[arg(long)]
+    pub search: Option<String>,
     /// s* per direction from a `helixreach boundary` CSV (default: continuum).
     #[arg(long)]
     pub boundary: Option<PathBuf>,
@@ -81,7 +85,10 @@ pub struct Args {
 /// Run `helixreach layout`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let dirs = args.dirs.load()?;
-    let rig = Rig::load(&args.rig)?;
+    let mut rig = Rig::load(&args.rig)?;
+    if let Some(s) = &args.search {
+        rig.planner.search = s.parse().map_err(|e| anyhow::anyhow!("--search: {e}"))?;
+    }
     let mut opts = LayoutOptions::around(&rig);
     if let Some(r) = &args.region {
         opts.region = r.parse::<Region>()?;
