@@ -253,12 +253,16 @@ fn search_agrees_with_the_brute_force_reference() {
 }
 
 /// Monotone per direction: roll `motor` ⊇ `fixed`; azimuths {0, π/2} ⊇ {0}; self-motion step
-/// 0.05 ⊇ 0.1 (finer never reaches less); back-off allowed ⊇ forbidden. On every 40th direction
-/// of the 200-direction quarter-sphere lattice, 24 slices.
+/// 0.05 ⊇ 0.1 ⊇ 0.36 (finer never reaches less; at 0.36 every walk is a chain of two
+/// sub-steps); back-off allowed ⊇ forbidden. On every 40th direction of the 200-direction
+/// quarter-sphere lattice, 24 slices.
 #[test]
 fn search_is_monotone_per_direction() {
     let coarse = Planner::new(coarse_rig(24, 0.1)).unwrap();
     let fine = Planner::new(coarse_rig(24, 0.05)).unwrap();
+    let mut chained = coarse_rig(24, 0.1);
+    chained.planner.search_step = 0.36;
+    let chained = Planner::new(chained).unwrap();
     let mut no_back = coarse_rig(24, 0.1);
     no_back.planner.allow_backoff = false;
     let no_back = Planner::new(no_back).unwrap();
@@ -287,6 +291,7 @@ fn search_is_monotone_per_direction() {
             )
             .unwrap();
         let finer = fine.plan_ray(d, s, 0.0, RollMode::Fixed, false).unwrap();
+        let coarser = chained.plan_ray(d, s, 0.0, RollMode::Fixed, false).unwrap();
         let forbidden = no_back.plan_ray(d, s, 0.0, RollMode::Fixed, false).unwrap();
         let ge = |a: &helixreach::planning::planner::RayPlan,
                   b: &helixreach::planning::planner::RayPlan,
@@ -303,6 +308,7 @@ fn search_is_monotone_per_direction() {
         ge(&motor, &fixed, "motor ⊇ fixed");
         ge(&two, &fixed, "two azimuths ⊇ one");
         ge(&finer, &fixed, "step 0.05 ⊇ 0.1");
+        ge(&fixed, &coarser, "step 0.1 ⊇ 0.36");
         ge(&fixed, &forbidden, "back-off ⊇ forbidden");
     });
 }
