@@ -18,8 +18,8 @@
 //!   predictor `q ± h·n̂` (n̂ the cofactor null direction of the Jacobian, max-norm 1), halved
 //!   down to `WALK_MIN_STEP` when the corrector jumps (the rule of
 //!   [`crate::planning::self_motion`]); a longer h is a chain of equal sub-steps within that
-//!   bound, each such a step from the last, its end and segment checked, the chain ending at
-//!   its last accepted point ([`Linker::walk`]).
+//!   bound, each one such step from the last with its end and segment checked, the chain
+//!   ending at its last accepted point ([`Linker::walk`]).
 //! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same
 //!   rod-end pose (the motor turns the other way, m = ω/c − ψ).
 //!

@@ -4,8 +4,9 @@
 //! The chain runs from a start configuration (the last one at slice 0 before the first load
 //! step: the arm reaches any valid start before the rod is clamped) through load (`load`),
 //! inside-slice (`reconfigure`) and back-off (`backoff`) edges; a bridged edge
-//! ([`super::linking::Proposal::Bridged`]) adds its intermediate poses as points of its phase. A walk step inside a slice (each
-//! sub-step of a chained walk) is resampled ([`self_motion::refine`]) so that the rod end stays within
+//! ([`super::linking::Proposal::Bridged`]) adds its intermediate poses as points of its phase.
+//! A walk step inside a slice (each sub-step of a chained walk) is resampled
+//! ([`self_motion::refine`]) so that the rod end stays within
 //! [`self_motion::HOLD_TOLERANCE`] on every joint-linear chord, and every resampled point and
 //! chord is checked again against the held rod; a roll step (roll `motor`) is one chord of at
 //! most `ROLL_STEP` of arm roll, which the motor compensates.
