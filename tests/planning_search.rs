@@ -507,6 +507,49 @@ fn search_bounds_are_stated() {
     assert_eq!(again.planner.search, SearchMethod::Exact);
 }
 
+/// A freely turning motor (range (−∞, ∞), the seed rig's) makes the roll a circle: the search
+/// merges configurations a whole motor turn apart, so a piece whose loops wind the motor is
+/// flooded once. On direction 90 of the 200-direction quarter-sphere lattice (16 slices,
+/// self-motion step 0.2 rad, margin 0.1, roll `fixed` partial) the roll `motor` search is then
+/// decided within 300,000 nodes — partial, reaching at least the `fixed` s — while the same
+/// motor with a bounded range of ±10⁶ rad (windings then count, the roll is unwrapped) floods a
+/// copy per winding and stays `undecided` at that bound.
+#[test]
+fn a_free_motor_is_searched_modulo_whole_turns() {
+    let mut rig = coarse_rig(16, 0.2);
+    rig.planner.margin = 0.1;
+    rig.planner.max_search_nodes = 300_000;
+    assert_eq!(rig.motor.range, (Real::NEG_INFINITY, Real::INFINITY));
+    let mut wound = rig.clone();
+    wound.motor.range = (-1e6, 1e6);
+    let d = fibonacci(200, true).unwrap()[90];
+    let s = s_star(&d);
+    let fixed = Planner::new(rig.clone())
+        .unwrap()
+        .plan_ray(&d, s, 0.0, RollMode::Fixed, false)
+        .unwrap();
+    assert_eq!(fixed.class, ReachClass::Partial);
+    let (free, bounded) = rayon::join(
+        || {
+            Planner::new(rig.clone())
+                .unwrap()
+                .plan_ray(&d, s, 0.0, RollMode::Motor, false)
+                .unwrap()
+        },
+        || {
+            Planner::new(wound.clone())
+                .unwrap()
+                .plan_ray(&d, s, 0.0, RollMode::Motor, false)
+                .unwrap()
+        },
+    );
+    let ctx = format!("fixed {fixed:?}\nfree {free:?}\nbounded {bounded:?}");
+    assert_eq!(free.class, ReachClass::Partial, "{ctx}");
+    assert!(free.s_reached >= fixed.s_reached, "{ctx}");
+    assert_eq!(bounded.class, ReachClass::Undecided, "{ctx}");
+    assert!(bounded.s_reached >= fixed.s_reached, "{ctx}");
+}
+
 /// A pose path cut by `planner.max_waypoints` (here 10) ends before s*·(1 + margin): the search
 /// never calls such a ray testable (its path would end there), it is partial with cause
 /// `waypoint_limit`.

@@ -8,6 +8,14 @@
 //! samples at most about h apart along each self-motion curve (roll `fixed`, 7-DOF), by a
 //! grid-like cover of h × `ROLL_STEP` (roll `motor`), or by its isolated points (6-DOF).
 //!
+//! The roll ψ is the arm's turn about the rod tangent, unwrapped along each edge; the motor
+//! then stands at m = ω/c − ψ. When the motor turns freely (range (−∞, ∞)) the roll is compared
+//! modulo 2π: (q, ψ) and (q, ψ + 2π) hold the same rod end with the same joints, every move
+//! from one has its copy from the other (the targets are 2π-periodic in ψ and no motor angle is
+//! refused), so they are one node. Unwrapped, the search would flood a copy of a piece for
+//! every winding of the motor that a loop of the piece makes. With a bounded motor range the
+//! winding decides which motor angles are left, and the roll is compared as it is.
+//!
 //! # Order
 //! Nodes wait in a priority queue keyed by (probe, slice, move kind, insertion order), largest
 //! first; a node is queued once for its load move, then for its moves inside the slice, then
@@ -140,6 +148,8 @@ pub(crate) struct Graph {
     /// and configurations between its parent and it, from the parent's side.
     pub bridges: std::collections::HashMap<u32, Vec<(Waypoint, Q)>>,
     merge_q: Real,
+    /// The period of the arm roll ψ in the merge rule (`Some(2π)` when the motor turns freely).
+    roll_period: Option<Real>,
     red: usize,
     dof: usize,
 }
@@ -159,13 +169,15 @@ pub(crate) enum Direction {
 
 impl Graph {
     /// An empty graph for `n_slices` slices of a `dof`-joint arm, bucketed on joint `red`
-    /// whose range is `red_range`.
+    /// whose range is `red_range`; with `roll_period` the roll is compared modulo that period
+    /// (module docs, "Nodes and resolution").
     pub fn new(
         n_slices: usize,
         dof: usize,
         red: usize,
         red_range: (Real, Real),
         merge_q: Real,
+        roll_period: Option<Real>,
     ) -> Graph {
         let span = (red_range.1 - red_range.0).max(0.0);
         let width = merge_q.max(span / MAX_BUCKETS as Real);
@@ -184,6 +196,7 @@ impl Graph {
             fresh: Vec::new(),
             bridges: std::collections::HashMap::new(),
             merge_q,
+            roll_period,
             red,
             dof,
         }
@@ -212,10 +225,16 @@ impl Graph {
             let mut id = row[kk];
             while id != NONE {
                 let o = &self.nodes[id as usize].c;
-                if (o.psi - c.psi).abs() <= rpsi
-                    && (0..self.dof).all(|j| (o.q[j] - c.q[j]).abs() <= self.merge_q)
-                {
-                    return Some(id);
+                // Joints first (most candidates differ there), then the roll.
+                if (0..self.dof).all(|j| (o.q[j] - c.q[j]).abs() <= self.merge_q) {
+                    let mut dpsi = (o.psi - c.psi).abs();
+                    if let (true, Some(p)) = (dpsi > rpsi, self.roll_period) {
+                        let r = dpsi % p;
+                        dpsi = r.min(p - r);
+                    }
+                    if dpsi <= rpsi {
+                        return Some(id);
+                    }
                 }
                 id = self.next[id as usize];
             }
@@ -399,6 +418,55 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// With a roll period of 2π, a configuration whose roll differs from a node's by a whole
+    /// number of turns (within the roll merge radius) is that node; without one, or off by more
+    /// than the radius, or with other joints, it is not. At rolls far from 0 (several windings),
+    /// both signs.
+    #[test]
+    fn roll_is_compared_modulo_the_period() {
+        let tau = std::f64::consts::TAU;
+        let merge_q = 0.096;
+        let rpsi = MERGE_FRACTION * ROLL_STEP;
+        let mut q = [0.0; crate::robot::MAX_DOF];
+        q[..7].copy_from_slice(&[0.3, -0.8, 0.2, 1.4, -0.3, 0.9, 0.1]);
+        for period in [None, Some(tau)] {
+            for psi in [-11.3, -0.7, 0.0, 2.9, 9.6] {
+                let c = Config { slice: 1, q, psi };
+                let mut g = Graph::new(2, 7, 0, (-3.05, 3.05), merge_q, period);
+                let id = g.insert(Node {
+                    c,
+                    parent: u32::MAX,
+                    via: Via::Start,
+                });
+                // The same roll, and one within the radius, are the node in every mode.
+                assert_eq!(g.find(&c), Some(id));
+                let near = Config {
+                    psi: psi - 0.9 * rpsi,
+                    ..c
+                };
+                assert_eq!(g.find(&near), Some(id));
+                for turns in [-2.0, -1.0, 1.0, 3.0] {
+                    for off in [0.0, 0.9 * rpsi, -0.9 * rpsi] {
+                        let w = Config {
+                            psi: psi + turns * tau + off,
+                            ..c
+                        };
+                        let expect = period.map(|_| id);
+                        assert_eq!(g.find(&w), expect, "{psi} {turns} {off}");
+                        let mut other = w;
+                        other.q[6] += 1.5 * merge_q;
+                        assert_eq!(g.find(&other), None, "{psi} {turns}");
+                    }
+                    let far = Config {
+                        psi: psi + turns * tau + 1.5 * rpsi,
+                        ..c
+                    };
+                    assert_eq!(g.find(&far), None, "{psi} {turns}");
+                }
+            }
+        }
+    }
+
     /// The bucketed lookup equals a linear scan of the slice's nodes (the merge rule of the
     /// module docs), for configurations near stored ones, at bucket edges and at the ends of
     /// the redundancy joint's range (values at and just past the limits), with a merge radius
@@ -411,7 +479,7 @@ mod tests {
             (1e-4, (-3.05, 3.05)),
             (0.3, (0.0, 1.0)),
         ] {
-            let mut g = Graph::new(4, 7, 0, range, merge_q);
+            let mut g = Graph::new(4, 7, 0, range, merge_q, None);
             let draw = |rng: &mut ChaCha8Rng| {
                 let mut q = [0.0; crate::robot::MAX_DOF];
                 // Joint 0 often on a bucket edge or a limit; the others in a small box so that

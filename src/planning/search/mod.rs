@@ -45,7 +45,8 @@
 //!   quarter-sphere sample (`s_reached` one or two slices less on at most 3 of its 43 partial
 //!   rays) and the same answer on every one of the seed's 173 directions; the node count goes
 //!   as 1/step and the cost at 0.16 is 0.4 of that at 0.04 (`docs/RESULTS.md`).
-//! - **Roll** (`motor`): steps of `linking::ROLL_STEP`.
+//! - **Roll** (`motor`): steps of `linking::ROLL_STEP`; with a freely turning motor the roll is
+//!   compared modulo a whole turn (submodule `graph`).
 //! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
 //!   the neighbouring slice, or a bridge of such tracks through intermediate poses; every step
 //!   within the joint-step bound, its end valid and its joint-linear segment collision-free
@@ -238,6 +239,7 @@ impl Planner {
                     self.red_joint,
                     self.red_range(),
                     fwd.merge_q(),
+                    self.roll_period(roll),
                 );
                 for c in self.slice_configs(slices, linker, f + 1, roll, fwd)? {
                     if b.find(&c).is_none() {
@@ -286,6 +288,14 @@ impl Planner {
                 }
             }
         }
+    }
+
+    /// The period of the arm roll ψ in the graph's merge rule: 2π in roll `motor` when the
+    /// motor turns freely (range (−∞, ∞)), else none (module docs, "Resolution").
+    fn roll_period(&self, roll: RollMode) -> Option<Real> {
+        let (lo, hi) = self.rig.motor.range;
+        (roll == RollMode::Motor && lo == Real::NEG_INFINITY && hi == Real::INFINITY)
+            .then_some(std::f64::consts::TAU)
     }
 
     /// The limits of the redundancy joint (the search graph's buckets).
@@ -438,6 +448,7 @@ impl Planner {
             self.red_joint,
             self.red_range(),
             merge_q,
+            self.roll_period(roll),
         );
         // Probe chains first: the last start (the first expanded) and the first `PROBES` of
         // each start component (spread over it: farthest-point order).
