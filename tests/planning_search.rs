@@ -1,7 +1,8 @@
 //! The search of the valid set ([`helixreach::planning::search`], `planner.search = "exact"`):
 //!
 //! - a brute-force reference (every IK branch on a redundancy grid from many restarts at every
-//!   slice, flood fill with self-motion closure checked by bisection) agrees with it ray by ray;
+//!   slice — and a roll grid in roll `motor` —, flood fill with self-motion closure checked by
+//!   bisection) agrees with it ray by ray, in both roll modes;
 //! - monotone per direction: roll `motor` ⊇ `fixed`, more azimuths ⊇ fewer, a finer
 //!   self-motion step never reaches less, back-off allowed ⊇ forbidden;
 //! - its paths are valid (steps, poses, collisions, phases), a search that hits the node bound
@@ -11,12 +12,12 @@
 //! reference runs in seconds.
 
 use helixreach::directions::{fibonacci, Direction};
-use helixreach::math::{Real, Vec3};
+use helixreach::math::{rot_z, Real, Vec3};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
 use helixreach::planning::pose_path::{pose_path, PoseMap, Ray, Spacing};
 use helixreach::planning::rig::{Rig, RollMode, SearchMethod};
 use helixreach::planning::trajectory::Phase;
-use helixreach::robot::{CollisionModel, IkParams, IkSolver, IkTarget, MAX_DOF};
+use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
 
 fn s_star(d: &Direction) -> Real {
@@ -41,17 +42,32 @@ fn coarse_rig(n: usize, step: Real) -> Rig {
     rig
 }
 
-/// Brute-force reachability of one ray at azimuth 0, roll `fixed`, forward only (no back-off),
-/// reconfiguration allowed: the farthest slice reached. The slices are the rig's pose path; at
-/// each, every IK solution found with j0 locked on a `grid` rad grid (6 seeds each) and 60
-/// random restarts, seeded also with the previous slice's reachable set; a configuration is
-/// valid when collision-free against the slice's rod (capsules from the pose map's centerline).
-/// R₀ = every valid configuration of slice 0; R_{k+1} = valid configurations of slice k+1 within
-/// the step bound of R_k with a collision-free joint-linear segment, closed under self-motion:
-/// two configurations of a slice are joined when bisection (midpoints projected onto the held
-/// pose by IK, each valid and between its ends) splits them into pieces within the step bound,
-/// every piece's segment collision-free.
-fn brute_force_farthest(rig: &Rig, planner: &Planner, d: &Direction, grid: Real) -> usize {
+/// Brute-force reachability of one ray at azimuth 0, forward only (no back-off), reconfiguration
+/// allowed: the farthest slice reached. `rolls` are the arm rolls ψ about the rod tangent tried
+/// (one value: roll `fixed`; a grid over the circle: roll `motor` with a freely turning motor).
+/// The slices are the rig's pose path; at each, for every roll, every IK solution of the pose
+/// turned by ψ found with j0 locked on a `grid` rad grid (6 seeds each) and 60 random restarts,
+/// seeded also with the previous slice's reachable set; a configuration is valid when
+/// collision-free against the slice's rod (capsules from the pose map's centerline).
+/// R₀ = every valid configuration of slice 0; R_{k+1} = valid configurations of slice k+1 at the
+/// same roll within the step bound of R_k with a collision-free joint-linear segment (with
+/// `tracked_loads`, only the one a minimum-norm IK run from each configuration of R_k lands on:
+/// the search's load edge), closed under moves inside the slice: two configurations of a slice at the same or neighbouring rolls
+/// of the grid are joined when bisection (midpoints projected by IK onto the pose at the mid
+/// roll, each valid and between its ends) splits them into pieces within the step bound, every
+/// piece's segment collision-free.
+/// Seeds per roll from the previous slice's reachable set when [`brute_force_farthest`] tries
+/// several rolls.
+const MAX_SEEDS: usize = 48;
+
+fn brute_force_farthest(
+    rig: &Rig,
+    planner: &Planner,
+    d: &Direction,
+    grid: Real,
+    rolls: &[Real],
+    tracked_loads: bool,
+) -> usize {
     let model = planner.model();
     let dof = model.dof();
     let step = rig.planner.max_joint_step;
@@ -83,19 +99,53 @@ fn brute_force_farthest(rig: &Rig, planner: &Planner, d: &Direction, grid: Real)
     let map = PoseMap::new(rig, 0.0);
     let dist = |a: &[Real], b: &[Real]| (0..dof).map(|j| (a[j] - b[j]).abs()).fold(0.0, Real::max);
     let seg = rig.planner.segment_check_step;
-    let mut reach: Vec<Vec<Real>> = Vec::new();
+    let tool_inv = Frame::from_iso(&rig.tool).inverse();
+    let n_rolls = rolls.len();
+    // The roll between two of the grid (halfway along the shorter arc of the circle).
+    let mid_roll = |a: usize, b: usize| {
+        let tau = std::f64::consts::TAU;
+        let mut d = rolls[b] - rolls[a];
+        d -= tau * (d / tau).round();
+        rolls[a] + 0.5 * d
+    };
+    let neighbours = |a: usize, b: usize| {
+        let k = (a + n_rolls - b) % n_rolls;
+        k == 0 || k == 1 || k == n_rolls - 1
+    };
+    // (roll index, joints)
+    let mut reach: Vec<(usize, Vec<Real>)> = Vec::new();
     for (k, w) in wps.iter().enumerate() {
-        let target = IkTarget::Pose(planner.tip_target(&w.tool));
+        let target_at = |psi: Real| {
+            let tool = Frame::from_iso(&w.tool).mul(&Frame::new(rot_z(-psi), Vec3::zeros()));
+            IkTarget::Pose(tool.mul(&tool_inv))
+        };
         let nodes: Vec<Vec3> = map.centerline(w.kto, rig.planner.rod_capsules).unwrap();
         let rod = rig.rod_geometry(&nodes);
         let mut valid = |q: &[Real]| cm.check(q, &mut ws, Some(&rod)).is_none();
-        let seeds: Vec<&[Real]> = reach.iter().map(|q| q.as_slice()).collect();
-        let cand: Vec<Vec<Real>> = solver
-            .solve_all(&target, &seeds)
-            .into_iter()
-            .map(|s| s.joints().to_vec())
-            .filter(|q| valid(q))
-            .collect();
+        let mut cand: Vec<(usize, Vec<Real>)> = Vec::new();
+        for (m, &psi) in rolls.iter().enumerate() {
+            let near: Vec<&[Real]> = reach
+                .iter()
+                .filter(|(r, _)| neighbours(*r, m))
+                .map(|(_, q)| q.as_slice())
+                .collect();
+            // With a roll grid, at most `MAX_SEEDS` of them, evenly spread (the reference's
+            // cost is quadratic in its candidates, which the roll grid multiplies).
+            let cap = if n_rolls > 1 { MAX_SEEDS } else { usize::MAX };
+            let seeds: Vec<&[Real]> = near
+                .iter()
+                .step_by(near.len().div_ceil(cap).max(1))
+                .copied()
+                .collect();
+            cand.extend(
+                solver
+                    .solve_all(&target_at(psi), &seeds)
+                    .into_iter()
+                    .map(|s| s.joints().to_vec())
+                    .filter(|q| valid(q))
+                    .map(|q| (m, q)),
+            );
+        }
         let seg_ok = |a: &[Real], b: &[Real], valid: &mut dyn FnMut(&[Real]) -> bool| {
             let n = (dist(a, b) / seg).ceil() as usize;
             (1..n).all(|i| {
@@ -106,18 +156,35 @@ fn brute_force_farthest(rig: &Rig, planner: &Planner, d: &Direction, grid: Real)
         };
         let mut r: Vec<bool> = if k == 0 {
             vec![true; cand.len()]
+        } else if tracked_loads {
+            let n0 = cand.len();
+            for (rp, p) in &reach {
+                if let Some(t) = solver.track(&target_at(rolls[*rp]), p, None) {
+                    let t = t.joints().to_vec();
+                    if valid(&t) && dist(p, &t) <= step && seg_ok(p, &t, &mut valid) {
+                        cand.push((*rp, t));
+                    }
+                }
+            }
+            (0..cand.len()).map(|i| i >= n0).collect()
         } else {
             cand.iter()
-                .map(|q| {
+                .map(|(m, q)| {
                     reach
                         .iter()
-                        .any(|p| dist(p, q) <= step && seg_ok(p, q, &mut valid))
+                        .any(|(rp, p)| rp == m && dist(p, q) <= step && seg_ok(p, q, &mut valid))
                 })
                 .collect()
         };
-        let joined = |a: &[Real], b: &[Real], valid: &mut dyn FnMut(&[Real]) -> bool| -> bool {
-            let mut stack = vec![(a.to_vec(), b.to_vec(), 0u32)];
-            while let Some((x, y, depth)) = stack.pop() {
+        // Bisection between (a at roll ra) and (b at roll rb): the midpoint at the mid roll.
+        let joined = |a: &[Real],
+                      b: &[Real],
+                      ra: Real,
+                      rb: Real,
+                      valid: &mut dyn FnMut(&[Real]) -> bool|
+         -> bool {
+            let mut stack = vec![(a.to_vec(), b.to_vec(), ra, rb, 0u32)];
+            while let Some((x, y, rx, ry, depth)) = stack.pop() {
                 let dxy = dist(&x, &y);
                 if dxy <= step {
                     if !seg_ok(&x, &y, valid) {
@@ -129,15 +196,16 @@ fn brute_force_farthest(rig: &Rig, planner: &Planner, d: &Direction, grid: Real)
                     return false;
                 }
                 let mid: Vec<Real> = (0..dof).map(|j| 0.5 * (x[j] + y[j])).collect();
-                let Some(m) = solver.track(&target, &mid, None) else {
+                let rm = 0.5 * (rx + ry);
+                let Some(m) = solver.track(&target_at(rm), &mid, None) else {
                     return false;
                 };
                 let m = m.joints().to_vec();
                 if !valid(&m) || dist(&m, &x) >= dxy || dist(&m, &y) >= dxy {
                     return false;
                 }
-                stack.push((m.clone(), y, depth + 1));
-                stack.push((x, m, depth + 1));
+                stack.push((m.clone(), y, rm, ry, depth + 1));
+                stack.push((x, m, rx, rm, depth + 1));
             }
             true
         };
@@ -147,9 +215,17 @@ fn brute_force_farthest(rig: &Rig, planner: &Planner, d: &Direction, grid: Real)
                 if r[i] {
                     continue;
                 }
+                let mi = cand[i].0;
                 let hit = (0..cand.len()).any(|j| {
-                    r[j] && dist(&cand[i], &cand[j]) <= 2.0 * grid.max(step)
-                        && joined(&cand[j], &cand[i], &mut valid)
+                    let mj = cand[j].0;
+                    if !(r[j] && neighbours(mi, mj))
+                        || dist(&cand[i].1, &cand[j].1) > 2.0 * grid.max(step)
+                    {
+                        return false;
+                    }
+                    // The roll of j, and i's unwrapped next to it.
+                    let (rj, ri) = (rolls[mj], 2.0 * mid_roll(mj, mi) - rolls[mj]);
+                    joined(&cand[j].1, &cand[i].1, rj, ri, &mut valid)
                 });
                 if hit {
                     r[i] = true;
@@ -160,15 +236,15 @@ fn brute_force_farthest(rig: &Rig, planner: &Planner, d: &Direction, grid: Real)
                 break;
             }
         }
-        let next: Vec<Vec<Real>> = cand
+        let next: Vec<(usize, Vec<Real>)> = cand
             .into_iter()
             .zip(r)
-            .filter_map(|(q, ok)| ok.then_some(q))
+            .filter_map(|(c, ok)| ok.then_some(c))
             .collect();
         if next.is_empty() {
             return k.saturating_sub(1);
         }
-        assert!(next.iter().all(|q| q.len() == dof && dof <= MAX_DOF));
+        assert!(next.iter().all(|(_, q)| q.len() == dof && dof <= MAX_DOF));
         reach = next;
     }
     wps.len() - 1
@@ -222,7 +298,7 @@ fn search_agrees_with_the_brute_force_reference() {
             let c = chained
                 .plan_ray(d, s_star(d), 0.0, RollMode::Fixed, false)
                 .unwrap();
-            let b = brute_force_farthest(&rig, &planner, d, 0.1);
+            let b = brute_force_farthest(&rig, &planner, d, 0.1, &[0.0], false);
             (
                 slice_of(&rig, d, p.s_reached),
                 b,
@@ -249,6 +325,67 @@ fn search_agrees_with_the_brute_force_reference() {
     assert!(
         testable > 0 && testable < dirs.len(),
         "{testable}: a sample with both classes"
+    );
+}
+
+/// The same in roll `motor` (the seed rig's motor turns freely): the reference tries the arm
+/// roll on a 2π/13 rad grid over the circle, joined between neighbouring rolls by bisection;
+/// its load edges are the search's (a minimum-norm IK run from each reachable configuration at
+/// the same roll), its cover of each slice its own (IK on the j0 × roll grid from restarts and
+/// bisection closure, not walks and roll steps). On the rays of every 25th direction of the
+/// 200-direction quarter-sphere lattice that roll `fixed` does not make testable, 24 slices,
+/// search step 0.2 rad: the search reaches at least the reference's farthest slice, is testable
+/// where the reference is, and on at least one ray both pass the roll-0 reference (the roll
+/// moves matter). A reference whose loads take any valid solution within the 0.3 rad step
+/// bound reaches farther on direction 100 (slice 8, the search 5): such jumps between
+/// solutions are not edges of the search (module docs of `planning::search`, "Resolution").
+#[test]
+fn motor_search_agrees_with_the_brute_force_reference() {
+    let mut rig = coarse_rig(24, 0.2);
+    rig.planner.allow_backoff = false;
+    rig.planner.bridge_halvings = 0;
+    let planner = Planner::new(rig.clone()).unwrap();
+    let rolls: Vec<Real> = (0..13)
+        .map(|k| k as Real * std::f64::consts::TAU / 13.0)
+        .collect();
+    let dirs: Vec<Direction> = fibonacci(200, true)
+        .unwrap()
+        .into_iter()
+        .step_by(25)
+        .filter(|d| {
+            planner
+                .plan_ray(d, s_star(d), 0.0, RollMode::Fixed, false)
+                .unwrap()
+                .class
+                != ReachClass::Testable
+        })
+        .collect();
+    let res: Vec<(usize, ReachClass, usize, usize)> = dirs
+        .par_iter()
+        .map(|d| {
+            let p = planner
+                .plan_ray(d, s_star(d), 0.0, RollMode::Motor, false)
+                .unwrap();
+            let b = brute_force_farthest(&rig, &planner, d, 0.1, &rolls, true);
+            let bf = brute_force_farthest(&rig, &planner, d, 0.1, &[0.0], true);
+            (slice_of(&rig, d, p.s_reached), p.class, b, bf)
+        })
+        .collect();
+    for (d, &(s, class, b, bf)) in dirs.iter().zip(&res) {
+        eprintln!("{d:?}: search slice {s} ({class:?}), brute force {b} (roll 0 only: {bf})");
+    }
+    let mut beyond_roll0 = 0;
+    for (d, &(s, class, b, bf)) in dirs.iter().zip(&res) {
+        assert!(s >= b, "{d:?}: search {s}, brute force {b}");
+        if b == 23 {
+            assert_eq!(class, ReachClass::Testable, "{d:?}");
+        }
+        beyond_roll0 += usize::from(b > bf && s >= b);
+    }
+    assert!(
+        !dirs.is_empty() && beyond_roll0 > 0,
+        "{} rays, {beyond_roll0} beyond the roll-0 reference",
+        dirs.len()
     );
 }
 

@@ -57,7 +57,15 @@
 //! narrower than the resolution (a gap in a curve shorter than a step, a link between slices
 //! that no minimum-norm track from a sample finds) can be missed; the brute-force reference of
 //! the tests (every IK branch on a redundancy grid, from many restarts, flood-filled) bounds
-//! that on a sample of rays. Where no single track joins a node to the neighbouring slice
+//! that on a sample of rays. A load step is the minimum-norm track from a node: where that
+//! lands in collision, another solution of the next slice within the joint-step bound may be
+//! valid, and a step to it is not an edge here unless a move inside the slice joins the two.
+//! With a large bound this matters: on a coarse rig (24 slices, bound 0.3 rad) in roll `motor`
+//! a reference taking any valid solution within the bound reaches slice 8 of direction 100
+//! (200-direction quarter-sphere lattice) where the search stops at 5; with the search's load
+//! edge the reference agrees with it (test `motor_search_agrees_with_the_brute_force_reference`).
+//! At the seed rig's bound (0.05 rad) that neighbourhood is about a third of a search step wide.
+//! Where no single track joins a node to the neighbouring slice
 //! within the joint-step bound (a fast stretch of the self-motion, typically near the end of a
 //! ray), the edge is bridged through intermediate poses (`planner.bridge_halvings` halvings of
 //! the interval at most, as the ladder refines its waypoints): with `bridge_halvings = 0` the
