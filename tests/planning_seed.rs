@@ -194,6 +194,31 @@ fn seed_directions_are_testable_with_their_own_clamps() {
     );
 }
 
+/// The seed's run c1_0.35_c2_0 (its own clamp, margin 0): in roll `fixed` the search stops at a
+/// joint limit near s = 6.04 of 7.76 (the real robot jumped 1.00 rad between disjoint self-motion
+/// components at s = 1.34), and in roll `motor` — the seed rig's motor turns freely — it finds a
+/// path to s*. That search compares the roll modulo a whole turn; with the roll unwrapped it
+/// flooded a copy of the piece per winding and stopped `undecided` at the 1,000,000-node bound.
+#[test]
+fn a_seed_run_is_testable_by_the_motor_roll() {
+    let runs = seed_runs();
+    let r = runs
+        .iter()
+        .find(|r| r.file == "c1_0.35_c2_0.txt")
+        .expect("the seed run");
+    let planners = planners_by_clamp(std::slice::from_ref(r), 0.0, SearchMethod::Exact);
+    let p = &planners[&key(r.clamp)];
+    let s = s_star(&r.dir);
+    let fixed = p.plan_ray(&r.dir, s, 0.0, RollMode::Fixed, false).unwrap();
+    assert_eq!(fixed.class, ReachClass::Partial, "{fixed:?}");
+    assert!(fixed.s_reached < 0.8 * s, "{fixed:?}");
+    let motor = p.plan_ray(&r.dir, s, 0.0, RollMode::Motor, true).unwrap();
+    assert_eq!(motor.class, ReachClass::Testable, "{motor:?}");
+    let path = motor.path.as_ref().expect("a path");
+    assert_eq!(path[0].waypoint.s, 0.0);
+    assert!((path.last().unwrap().waypoint.s - s).abs() <= 1e-9 * s);
+}
+
 /// More samples never reach less: doubling `planner.dense_samples` (the start sampling of the
 /// dense levels) on the direction where twice the base width reached less (issue 10:
 /// (0.3226, 0.4013, 0.8573), 5.53 with 16 base nodes vs 5.78 with 8), and on every 80th
