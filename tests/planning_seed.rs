@@ -198,7 +198,7 @@ fn seed_directions_are_testable_with_their_own_clamps() {
 /// joint limit near s = 6.04 of 7.76 (the real robot jumped 1.00 rad between disjoint self-motion
 /// components at s = 1.34), and in roll `motor` — the seed rig's motor turns freely — it finds a
 /// path to s*. That search compares the roll modulo a whole turn; with the roll unwrapped it
-/// flooded a copy of the piece per winding and stopped `undecided` at the 1,000,000-node bound.
+/// would flood a copy of the piece per winding and end `undecided` at the 1,000,000-node bound.
 #[test]
 fn a_seed_run_is_testable_by_the_motor_roll() {
     let runs = seed_runs();
