@@ -13,8 +13,18 @@
 //! its axis and radius (it contains the cylinder). A box first meets a separating-axis test in
 //! its own frame: the other part's containing capsule (or bounding ball) is boxed per axis in
 //! the box's frame (segment ends ± radius), and if that box misses the (padded) box on one of
-//! its three axes the pair is free. Both are broad phases: they only skip pairs that do not
-//! touch, so every answer equals parry's (tests below, against parry alone).
+//! its three axes the pair is free. A cylinder whose axis capsule touches the other part's
+//! capsule is decided without parry in two cases (the **cylinder phase**): the other capsule
+//! lies beyond an end plane by more than its radius and the padding (free), or the other part
+//! is a swept sphere whose closest point on the axis is interior to it — the two closest points
+//! then differ perpendicularly to the axis, so the distance to the cylinder is the segments'
+//! distance less the cylinder's radius, and the pair touches exactly when the capsules do. Only a
+//! closest feature on an end disc goes to parry. A box and a part with a containing capsule
+//! are decided by the segment's distance to the box (the **box phase**, closed form:
+//! [`segment_box_distance_squared`]): beyond the capsule's radius and the padding the pair is
+//! free; within it a swept sphere touches, and only a hull's fitted capsule goes to parry. These
+//! phases never change an answer: every answer equals parry's (tests below, against parry
+//! alone).
 
 use super::BodyRef;
 use crate::math::{Iso3, Mat3, Real, Vec3};
@@ -65,6 +75,8 @@ pub(super) struct Body {
     pub(super) fit: Option<Ssv>,
     /// Half extents of a box shape (in `local`): the separating-axis broad phase.
     pub(super) cuboid: Option<Vec3>,
+    /// Radius of a cylinder shape (its axis is the `fit` segment): the cylinder phase.
+    pub(super) cylinder: Option<Real>,
     /// Bounding ball: centre in the owner's frame.
     pub(super) center: Vec3,
     /// Bounding ball radius (padding included).
@@ -97,7 +109,7 @@ impl Body {
                 origin.transform_point(&Vec3::new(0.0, 0.0, h)),
             )
         };
-        let (mut fit, mut cuboid) = (None, None);
+        let (mut fit, mut cuboid, mut cylinder) = (None, None, None);
         let (parry, local, ssv) = match *shape {
             Shape::Sphere { radius } => (
                 SharedShape::new(Ball::new(radius)),
@@ -115,6 +127,7 @@ impl Body {
                 // The capsule of the axis and the radius contains the cylinder.
                 let (a, b) = axis(half_length);
                 fit = Some((a, b, radius));
+                cylinder = Some(radius);
                 (
                     SharedShape::new(Cylinder::new(half_length, radius)),
                     Frame::new(origin.rot * y_to_z, origin.pos),
@@ -140,6 +153,7 @@ impl Body {
             ssv,
             fit,
             cuboid,
+            cylinder,
             center: origin.pos,
             radius: shape.bounding_radius(),
             pad: 0.0,
@@ -162,6 +176,7 @@ impl Body {
             ssv: Some((a, b, r)),
             fit: None,
             cuboid: None,
+            cylinder: None,
             center: mid,
             radius: 0.5 * len + r,
             pad: 0.0,
@@ -192,6 +207,7 @@ impl Body {
             ssv: None,
             fit: None,
             cuboid: None,
+            cylinder: None,
             center: origin.transform_point(&c),
             // Rounding slack: the ball must never be tighter than the hull.
             radius: r * (1.0 + 1e-12) + 1e-12,
@@ -315,6 +331,12 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
         if !touch || (x.ssv().is_some() && y.ssv().is_some()) {
             return touch;
         }
+        if let Some(touch) = cylinder_decides(x, y, pad).or_else(|| cylinder_decides(y, x, pad)) {
+            return touch;
+        }
+    }
+    if let Some(touch) = box_decides(x, y, pad).or_else(|| box_decides(y, x, pad)) {
+        return touch;
     }
     if pad > 0.0 {
         x.with_parry(|i1, s1| {
@@ -330,6 +352,127 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
             y.with_parry(|i2, s2| query::intersection_test(i1, s1, i2, s2).unwrap_or(true))
         })
     }
+}
+
+/// The cylinder phase (module docs): when `x` is a cylinder and `y` has a containing capsule
+/// that touches the cylinder's axis capsule, `Some(false)` if `y`'s capsule lies beyond one of
+/// the cylinder's end planes by more than its radius and the padding, `Some(true)` if `y` is a
+/// swept sphere whose closest point on the cylinder's axis is interior to the axis (then the
+/// segments' distance is the distance to the lateral surface plus the cylinder's radius, and the
+/// capsules touching means the shapes touch), `None` otherwise (the closest feature is an end
+/// disc: parry decides). `pad` is both parts' padding.
+#[inline]
+fn cylinder_decides(x: &Part<'_>, y: &Part<'_>, pad: Real) -> Option<bool> {
+    let Part::Body(bx, px) = *x else {
+        return None;
+    };
+    let rc = bx.cylinder?;
+    let (a2, b2, r2) = y.capsule()?;
+    let rho = r2 + pad;
+    let axis = px.b - px.a;
+    let len = axis.norm();
+    if len < DEGENERATE_SEGMENT {
+        return None;
+    }
+    let u = axis / len;
+    let (h1, h2) = ((a2 - px.a).dot(&u), (b2 - px.a).dot(&u));
+    if h1.min(h2) > len + rho || h1.max(h2) < -rho {
+        return Some(false);
+    }
+    y.ssv()?;
+    let (_, t, d2) = segment_closest(&a2, &b2, &px.a, &px.b);
+    // Interior with a margin: at a clamped end the lateral-surface argument does not hold.
+    const INTERIOR: Real = 1e-9;
+    if t > INTERIOR && t < 1.0 - INTERIOR {
+        let rr = rc + rho;
+        return Some(d2 <= rr * rr);
+    }
+    None
+}
+
+/// The box phase (module docs): when `x` is a box and `y` has a containing capsule,
+/// `Some(false)` if the capsule's segment is farther from the box than its radius and the
+/// padding, `Some(true)` if it is not and `y` is a swept sphere, `None` otherwise (`y` has no
+/// capsule, or only contains a hull in one). `pad` is both parts' padding.
+#[inline]
+fn box_decides(x: &Part<'_>, y: &Part<'_>, pad: Real) -> Option<bool> {
+    let Part::Body(bx, px) = *x else {
+        return None;
+    };
+    let h = bx.cuboid?;
+    let (a, b, r) = y.capsule()?;
+    let rho = r + pad;
+    let rt = px.pose.rot.transpose();
+    let (la, lb) = (rt * (a - px.pose.pos), rt * (b - px.pose.pos));
+    if segment_box_distance_squared(&la, &lb, &h) > rho * rho {
+        return Some(false);
+    }
+    y.ssv().map(|_| true)
+}
+
+/// Squared distance between the segment `a`–`b` and the box `[−h, h]` (same frame).
+///
+/// The squared distance of `a + t·(b − a)` to the box is Σₖ max(0, |pₖ(t)| − hₖ)²: convex in t
+/// and one quadratic between the (at most six) parameters where a coordinate crosses a face
+/// plane. Each piece's minimum is in closed form; the smallest over the pieces is the distance.
+/// Cost: a sort of ≤ 6 numbers and ≤ 7 quadratics.
+pub(super) fn segment_box_distance_squared(a: &Vec3, b: &Vec3, h: &Vec3) -> Real {
+    let d = b - a;
+    let mut cuts = [0.0; 8];
+    let mut n = 1;
+    for k in 0..3 {
+        if d[k] != 0.0 {
+            for face in [-h[k], h[k]] {
+                let t = (face - a[k]) / d[k];
+                if t > 0.0 && t < 1.0 {
+                    cuts[n] = t;
+                    n += 1;
+                }
+            }
+        }
+    }
+    cuts[n] = 1.0;
+    n += 1;
+    cuts[1..n - 1].sort_unstable_by(Real::total_cmp);
+    let dist2 = |t: Real| {
+        (0..3)
+            .map(|k| {
+                let e = (a[k] + t * d[k]).abs() - h[k];
+                if e > 0.0 {
+                    e * e
+                } else {
+                    0.0
+                }
+            })
+            .sum::<Real>()
+    };
+    let mut best = dist2(0.0).min(dist2(1.0));
+    for w in cuts[..n].windows(2) {
+        let (t0, t1) = (w[0], w[1]);
+        let mid = 0.5 * (t0 + t1);
+        // The piece's quadratic: Σ over the coordinates outside the box at `mid` of
+        // (aₖ ∓ hₖ + t·dₖ)².
+        let (mut num, mut den) = (0.0, 0.0);
+        for k in 0..3 {
+            let p = a[k] + mid * d[k];
+            let off = if p > h[k] {
+                a[k] - h[k]
+            } else if p < -h[k] {
+                a[k] + h[k]
+            } else {
+                continue;
+            };
+            num += off * d[k];
+            den += d[k] * d[k];
+        }
+        let t = if den > 0.0 {
+            (-num / den).clamp(t0, t1)
+        } else {
+            mid
+        };
+        best = best.min(dist2(t));
+    }
+    best
 }
 
 /// Whether `x` is a box that a separating axis of its own frame parts from `y` (module docs):
@@ -390,6 +533,15 @@ fn shape_distance(x: &Part<'_>, y: &Part<'_>) -> Real {
 /// degenerate segments).
 #[inline]
 pub fn segment_distance_squared(p1: &Vec3, q1: &Vec3, p2: &Vec3, q2: &Vec3) -> Real {
+    segment_closest(p1, q1, p2, q2).2
+}
+
+/// Closest points of segments `p1q1` and `p2q2`: `(s, t, d²)` with the points `p1 + s·(q1 − p1)`
+/// and `p2 + t·(q2 − p2)`, s, t ∈ [0, 1] (Ericson, *Real-Time Collision Detection*, 5.1.9). When
+/// t is not clamped to 0 or 1 it is the projection's parameter of the first point on the
+/// second segment's line.
+#[inline]
+fn segment_closest(p1: &Vec3, q1: &Vec3, p2: &Vec3, q2: &Vec3) -> (Real, Real, Real) {
     let d1 = q1 - p1;
     let d2 = q2 - p2;
     let r = p1 - p2;
@@ -399,7 +551,7 @@ pub fn segment_distance_squared(p1: &Vec3, q1: &Vec3, p2: &Vec3, q2: &Vec3) -> R
     let eps = DEGENERATE_SEGMENT_SQ;
     let (s, t);
     if a <= eps && e <= eps {
-        return r.norm_squared();
+        return (0.0, 0.0, r.norm_squared());
     }
     if a <= eps {
         s = 0.0;
@@ -431,7 +583,7 @@ pub fn segment_distance_squared(p1: &Vec3, q1: &Vec3, p2: &Vec3, q2: &Vec3) -> R
     }
     let c1 = p1 + d1 * s;
     let c2 = p2 + d2 * t;
-    (c1 - c2).norm_squared()
+    (s, t, (c1 - c2).norm_squared())
 }
 
 #[cfg(test)]
@@ -487,6 +639,143 @@ mod tests {
                 }
             })
         })
+    }
+
+    /// The cylinder phase decides cylinder–capsule pairs near the cylinder (both answers, both
+    /// of its cases) exactly as parry does: a cylinder at a random pose, capsules and rod
+    /// segments placed within 0.15 m of its surface, padded and not.
+    #[test]
+    fn the_cylinder_phase_agrees_with_parry() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let (mut free, mut touch, mut ends) = (0, 0, 0);
+        for k in 0..20_000 {
+            let owner = Owner::Obstacle(0);
+            let (radius, half_length) = (rng.random_range(0.01..0.2), rng.random_range(0.01..0.3));
+            let cyl = Shape::Cylinder {
+                radius,
+                half_length,
+            };
+            let pad = if k % 3 == 0 {
+                rng.random_range(0.0..0.03)
+            } else {
+                0.0
+            };
+            let at = random_frame(&mut rng);
+            let bx = Body::new(owner, &cyl, &Frame::identity()).padded(pad);
+            let mut px = Posed::default();
+            bx.pose(&at, &mut px);
+            // A point near the cylinder (cylinder frame), a short segment through it.
+            let reach = radius + 0.15;
+            let near = |rng: &mut rand_chacha::ChaCha8Rng| {
+                Vec3::new(
+                    rng.random_range(-reach..reach),
+                    rng.random_range(-reach..reach),
+                    rng.random_range(-(half_length + 0.15)..(half_length + 0.15)),
+                )
+            };
+            let (a, b) = (near(&mut rng), near(&mut rng));
+            let b = a + 0.3 * (b - a);
+            let r = rng.random_range(0.002..0.05);
+            let (a, b) = (at.transform_point(&a), at.transform_point(&b));
+            let seg = Part::Segment(a, b, r);
+            let x = Part::Body(&bx, &px);
+            match cylinder_decides(&x, &seg, pad) {
+                Some(true) => touch += 1,
+                Some(false) => free += 1,
+                None => ends += 1,
+            }
+            let want = parry_intersects(&x, &seg);
+            assert_eq!(
+                intersects(&x, &seg),
+                want,
+                "{k}: r {radius} h {half_length} pad {pad}"
+            );
+            assert_eq!(intersects(&seg, &x), want, "{k} (swapped)");
+        }
+        assert!(
+            free > 1_000 && touch > 1_000 && ends > 1_000,
+            "{free} {touch} {ends}"
+        );
+    }
+
+    /// The segment–box distance against a brute-force minimum over 20,001 points of the
+    /// segment (point–box distance by clamping), on segments through and around random boxes.
+    #[test]
+    fn segment_box_distance_matches_dense_sampling() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let (mut inside, mut outside) = (0, 0);
+        for k in 0..2_000 {
+            let h = Vec3::new(
+                rng.random_range(0.01..0.3),
+                rng.random_range(0.01..0.3),
+                rng.random_range(0.001..0.3),
+            );
+            let mut pt = || Vec3::from_fn(|i, _| rng.random_range(-0.5..0.5));
+            let (a, b) = (pt(), pt());
+            // Some segments parallel to a face, some degenerate.
+            let b = match k % 7 {
+                0 => Vec3::new(b.x, b.y, a.z),
+                1 => a,
+                _ => b,
+            };
+            let got = segment_box_distance_squared(&a, &b, &h).sqrt();
+            let brute = (0..=20_000)
+                .map(|i| {
+                    let p = a + (i as Real / 20_000.0) * (b - a);
+                    (p - p.zip_map(&h, |v, e| v.clamp(-e, e))).norm()
+                })
+                .fold(Real::MAX, Real::min);
+            let step = (b - a).norm() / 20_000.0;
+            assert!(got <= brute + 1e-12, "{k}: {got} > {brute}");
+            assert!(got >= brute - step, "{k}: {got} < {brute} − {step}");
+            if got == 0.0 {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+        assert!(inside > 100 && outside > 1_000, "{inside} {outside}");
+    }
+
+    /// The box phase decides box–capsule pairs near the box exactly as parry does: a box at a
+    /// random pose, capsules and rod segments placed within 0.15 m of it, padded and not.
+    #[test]
+    fn the_box_phase_agrees_with_parry() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(13);
+        let (mut free, mut touch) = (0, 0);
+        for k in 0..20_000 {
+            let owner = Owner::Obstacle(0);
+            let h = Vec3::new(
+                rng.random_range(0.01..0.3),
+                rng.random_range(0.01..0.3),
+                rng.random_range(0.002..0.3),
+            );
+            let pad = if k % 3 == 0 {
+                rng.random_range(0.0..0.03)
+            } else {
+                0.0
+            };
+            let at = random_frame(&mut rng);
+            let bx =
+                Body::new(owner, &Shape::Box { half_extents: h }, &Frame::identity()).padded(pad);
+            let mut px = Posed::default();
+            bx.pose(&at, &mut px);
+            let mut near = || Vec3::from_fn(|i, _| rng.random_range(-(h[i] + 0.15)..(h[i] + 0.15)));
+            let (a, b) = (near(), near());
+            let b = a + 0.3 * (b - a);
+            let r = rng.random_range(0.002..0.05);
+            let seg = Part::Segment(at.transform_point(&a), at.transform_point(&b), r);
+            let x = Part::Body(&bx, &px);
+            match box_decides(&x, &seg, pad) {
+                Some(true) => touch += 1,
+                Some(false) => free += 1,
+                None => panic!("a swept sphere is decided"),
+            }
+            let want = parry_intersects(&x, &seg);
+            assert_eq!(intersects(&x, &seg), want, "{k}: h {h:?} pad {pad}");
+            assert_eq!(intersects(&seg, &x), want, "{k} (swapped)");
+        }
+        assert!(free > 2_000 && touch > 2_000, "{free} {touch}");
     }
 
     /// The broad phases (bounding balls, containing capsules of cylinders, the box-frame
