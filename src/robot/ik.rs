@@ -215,7 +215,7 @@ fn damped_normal_solve(j: &Jacobian, lambda: Real, e: &Vector6<Real>) -> Option<
                 d -= l[c][k] * l[c][k];
             }
         }
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return None;
         }
         let dc = d.sqrt();
