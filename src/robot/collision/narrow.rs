@@ -710,7 +710,7 @@ mod tests {
                 rng.random_range(0.01..0.3),
                 rng.random_range(0.001..0.3),
             );
-            let mut pt = || Vec3::from_fn(|i, _| rng.random_range(-0.5..0.5));
+            let mut pt = || Vec3::from_fn(|_, _| rng.random_range(-0.5..0.5));
             let (a, b) = (pt(), pt());
             // Some segments parallel to a face, some degenerate.
             let b = match k % 7 {
