@@ -49,6 +49,8 @@ const STALL_WINDOW: usize = 10;
 /// [`log_rot`]: below this angle (rad) the rotation vector is the skew part itself
 /// (`θ/sin θ = 1` to machine precision).
 const LOG_SMALL_ANGLE: Real = 1e-8;
+/// sin(`LOG_SMALL_ANGLE`) (= the angle to round-off).
+const LOG_SMALL_SIN: Real = LOG_SMALL_ANGLE;
 /// [`log_rot`]: within this of π (rad) the axis comes from the symmetric part (nalgebra), where
 /// `θ/sin θ` loses accuracy.
 const LOG_NEAR_PI: Real = 1e-4;
@@ -160,6 +162,32 @@ impl IkTarget {
         }
     }
 
+    /// Whether a tool pose is within `tp` (m) and `ta` (rad, below π/2) of the target, given
+    /// as `tp2` = tp² and `tan_ta` = tan(ta): the test of [`IkTarget::errors`] without the
+    /// arctangent (an angle θ = atan2(s, c) is at most `ta` exactly when c > 0 and
+    /// s ≤ tan(ta)·c).
+    #[inline]
+    fn within(&self, tool: &Frame, tp2: Real, tan_ta: Real) -> bool {
+        let (p, s, c) = match self {
+            IkTarget::Pose(t) => {
+                let r = t.rot * tool.rot.transpose();
+                let s = 0.5
+                    * Vec3::new(
+                        r[(2, 1)] - r[(1, 2)],
+                        r[(0, 2)] - r[(2, 0)],
+                        r[(1, 0)] - r[(0, 1)],
+                    )
+                    .norm();
+                (t.pos - tool.pos, s, 0.5 * (r.trace() - 1.0))
+            }
+            IkTarget::Axis { position, axis } => {
+                let z = tool.rot.column(2);
+                (position - tool.pos, z.cross(axis).norm(), z.dot(axis))
+            }
+        };
+        p.norm_squared() <= tp2 && c > 0.0 && s <= tan_ta * c
+    }
+
     /// Residual `e` (6) and, in axis mode, the projection of the angular rows of `jac`.
     #[inline]
     fn residual(&self, tool: &Frame, jac: Option<&mut Jacobian>) -> Vector6<Real> {
@@ -266,6 +294,11 @@ fn log_rot(r: &Mat3) -> Vec3 {
         );
     let s = w.norm();
     let c = 0.5 * (r.trace() - 1.0);
+    // θ = atan2(s, c) < LOG_SMALL_ANGLE exactly when c > 0 and s < sin(LOG_SMALL_ANGLE): the
+    // common case of a converging solve, without the arctangent.
+    if c > 0.0 && s < LOG_SMALL_SIN {
+        return w;
+    }
     let th = s.atan2(c);
     if th < LOG_SMALL_ANGLE {
         w
@@ -575,6 +608,7 @@ impl<'a> IkSolver<'a> {
         let n = self.model.dof();
         let chain = self.model.chain();
         let (tp, ta) = (self.params.position_tolerance, self.params.angle_tolerance);
+        let (tp2, tan_ta) = (tp * tp, ta.min(1.5).tan());
         let (mut jac, mut jac_n) = (Jacobian::zeros(), Jacobian::zeros());
         let mut tool = chain.jacobian(&q[..n], &mut jac);
         let mut e = target.residual(&tool, Some(&mut jac));
@@ -590,8 +624,8 @@ impl<'a> IkSolver<'a> {
                 }
                 checkpoint = err2;
             }
-            let (pe, ae) = target.errors(&tool);
-            if pe <= tp && ae <= ta {
+            if target.within(&tool, tp2, tan_ta) {
+                let (pe, ae) = target.errors(&tool);
                 return Some(IkSolution {
                     q,
                     dof: n,
@@ -683,6 +717,52 @@ impl<'a> IkSolver<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The convergence test without the arctangent agrees with the errors' test: poses
+    /// around a target at distances and angles spread across the tolerances (pose and axis
+    /// targets).
+    #[test]
+    fn within_agrees_with_errors() {
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        let (mut inside, mut outside) = (0, 0);
+        for k in 0..20_000 {
+            let axis = Vec3::from_fn(|_, _| rng.random_range(-1.0..1.0)).normalize();
+            let t = Frame::new(
+                nalgebra::Rotation3::from_scaled_axis(axis * rng.random_range(0.0..3.0))
+                    .into_inner(),
+                Vec3::from_fn(|_, _| rng.random_range(-1.0..1.0)),
+            );
+            let (tp, ta) = (
+                (10.0 as Real).powf(rng.random_range(-10.0..-2.0)),
+                (10.0 as Real).powf(rng.random_range(-10.0..-1.0)),
+            );
+            let dir = Vec3::from_fn(|_, _| rng.random_range(-1.0..1.0)).normalize();
+            let rax = Vec3::from_fn(|_, _| rng.random_range(-1.0..1.0)).normalize();
+            let tool = Frame::new(
+                nalgebra::Rotation3::from_scaled_axis(rax * ta * rng.random_range(0.0..2.0))
+                    .into_inner()
+                    * t.rot,
+                t.pos + dir * tp * rng.random_range(0.0..2.0),
+            );
+            let target = if k % 2 == 0 {
+                IkTarget::Pose(t)
+            } else {
+                IkTarget::Pose(t).free_roll()
+            };
+            let (pe, ae) = target.errors(&tool);
+            let want = pe <= tp && ae <= ta;
+            // Away from the boundary by more than round-off: the same answer.
+            if (pe - tp).abs() > 1e-9 * tp && (ae - ta).abs() > 1e-9 * ta {
+                assert_eq!(target.within(&tool, tp * tp, ta.tan()), want, "{k}");
+                if want {
+                    inside += 1;
+                } else {
+                    outside += 1;
+                }
+            }
+        }
+        assert!(inside > 2_000 && outside > 2_000, "{inside} {outside}");
+    }
 
     /// The damped normal-equation solve agrees with nalgebra's Cholesky solve of the same
     /// matrix (random 6×7 Jacobians, rank-deficient ones, λ from 1e-12 to 1), its residual is at
