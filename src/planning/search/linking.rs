@@ -16,8 +16,10 @@
 //!   along the self-motion curve of the held pose in either direction. Within
 //!   `WALK_SUB_FRACTION`·`planner.max_joint_step` it is one predictor–corrector step,
 //!   predictor `q ± h·n̂` (n̂ the cofactor null direction of the Jacobian, max-norm 1), halved
-//!   down to `WALK_MIN_STEP` when the corrector jumps (the rule of
-//!   [`crate::planning::self_motion`]); a longer h is a chain of equal sub-steps within that
+//!   at most `WALK_HALVINGS` times when the corrector jumps or does not move forward (the rule
+//!   of [`crate::planning::self_motion`]): a walk stops within h/8 of where its curve leaves the
+//!   valid set (a joint limit, a fold), a twentieth of the self-motion resolution at the seed
+//!   rig's 0.16 / 0.04 rad; a longer h is a chain of equal sub-steps within that
 //!   bound, each one such step from the last with its end and segment checked, the chain
 //!   ending at its last accepted point ([`Linker::walk`]).
 //! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same
@@ -35,11 +37,15 @@ use crate::planning::ladder::BlockCause;
 use crate::planning::planner::Planner;
 use crate::planning::pose_path::Waypoint;
 use crate::planning::self_motion::{null_direction, Q};
-use crate::planning::witness::WALK_MIN_STEP;
 use crate::robot::{CollisionWorkspace, IkSolver, IkTarget, Jacobian};
 
 /// Longest sub-step of a walk, as a fraction of `planner.max_joint_step` ([`Linker::walk`]).
 pub(crate) const WALK_SUB_FRACTION: Real = 0.8;
+
+/// Halvings of a walk step whose corrector fails ([`Linker::walk`]): the step tried is h, h/2,
+/// h/4, h/8. Halving further only moves the end of a walk closer to where its curve leaves the
+/// valid set, well inside the self-motion resolution, at a track per halving.
+const WALK_HALVINGS: usize = 3;
 
 /// Roll step of the moves inside a slice in roll `motor` (rad).
 pub(crate) const ROLL_STEP: Real = 0.05;
@@ -314,13 +320,13 @@ impl<'a> Linker<'a> {
 
     /// One predictor–corrector step of at most `h` from `q` along the null direction `n`
     /// (orientation `sign`): predictor `q ± h·n`, corrected by a minimum-norm track onto
-    /// `target`, halved down to `WALK_MIN_STEP` until the corrected point moves forward along
+    /// `target`, halved at most `WALK_HALVINGS` times until the corrected point moves forward along
     /// `n`, by at least a quarter of the predictor's step and within the joint-step bound.
     fn corrector(&self, target: &IkTarget, q: &Q, sign: Real, n: &Q, h: Real) -> Option<Q> {
         let dof = self.planner.dof;
         let bound = self.planner.rig.planner.max_joint_step;
         let mut h = h;
-        while h >= WALK_MIN_STEP {
+        for _ in 0..=WALK_HALVINGS {
             let mut pred = *q;
             for j in 0..dof {
                 pred[j] += sign * h * n[j];
