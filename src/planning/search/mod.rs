@@ -103,7 +103,7 @@
 //! A partial ray costs its reachable piece, or the far piece if that one is exhausted first:
 //! cheap when either is small; when both are large regions of the strip below s* (different
 //! self-motion families, separated by joint limits; on the seed rig rays blocked just past
-//! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.3 s, about 9 µs per node; the count
+//! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.23 s, about 7 µs per node; the count
 //! goes as 1/`search_step`: 116,000 at 0.04), and those few rays dominate a sweep's CPU. In
 //! roll `motor` the pieces are 2-D per slice (self-motion × roll, a node per
 //! `search_step` × `ROLL_STEP`), and such rays exceed the default node bound. Figures:

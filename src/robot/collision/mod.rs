@@ -21,8 +21,11 @@
 //! # Speed
 //! Each body has a bounding ball; a pair is tested exactly only if the balls overlap. Spheres
 //! and capsules (the arms' shapes) are swept spheres: their exact test is a segment–segment
-//! distance (closed form, [`segment_distance_squared`]). Boxes, cylinders and mesh hulls go to
-//! parry's `query::intersection_test` / `query::closest_points`. A mesh hull is checked as
+//! distance (closed form, [`segment_distance_squared`]). A box or a cylinder against a swept
+//! sphere is decided in closed form too (the segment's distance to the box; the cylinder's
+//! lateral surface), except where a cylinder's end disc is the closest feature; those, and
+//! box–box, cylinder–box and mesh-hull pairs, go to parry's `query::intersection_test` /
+//! `query::closest_points` (module `narrow`). A mesh hull is checked as
 //! [`CollisionKind`] says: exactly, as its fitted capsule, or (the default) exactly only where
 //! its fitted capsule touches the other part's capsule. A [`CollisionWorkspace`] holds the link
 //! frames and posed bodies, sized once: no allocation per check.
