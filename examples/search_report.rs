@@ -6,13 +6,14 @@
 //! ```text
 //! cargo run --release --example search_report -- [--directions 200] [--full] [--roll fixed|motor]
 //!     [--margin 0.1] [--every 1] [--only k] [--step rad] [--no-peer] [--no-backoff]
-//!     [--no-reconfiguration] [--azimuths N] [--csv out.csv]
+//!     [--no-reconfiguration] [--azimuths N] [--max-nodes N] [--csv out.csv]
 //! ```
 //! `--no-backoff`, `--no-reconfiguration`: the rig's `planner.allow_backoff` and
 //! `planner.allow_reconfiguration` off; `--azimuths N`: each ray planned at N azimuths (the
 //! best kept, [`Planner::plan_best`]) instead of azimuth 0.
 //! `--full`: the whole sphere's Fibonacci lattice instead of the quarter-sphere; `--every k`:
-//! every k-th direction of the lattice; `--only k`: the k-th of those only; `--step`: the rig's `planner.search_step`.
+//! every k-th direction of the lattice; `--only k`: the k-th of those only; `--step`: the rig's `planner.search_step`;
+//! `--max-nodes`: its `planner.max_search_nodes` (a ray needing more is `undecided`).
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode, SearchMethod};
@@ -55,6 +56,9 @@ fn main() -> helixreach::Result<()> {
     let azimuths = azimuth_grid(get("--azimuths").map_or(1, |v| v.parse().expect("--azimuths")));
     if let Some(v) = get("--step") {
         rig.planner.search_step = v.parse().expect("--step");
+    }
+    if let Some(v) = get("--max-nodes") {
+        rig.planner.max_search_nodes = v.parse().expect("--max-nodes");
     }
     let mut exact_rig = rig.clone();
     exact_rig.planner.search = SearchMethod::Exact;
