@@ -8,7 +8,7 @@
 //! cargo run --release --example seed_reference -- [--directions 173] [--every 1] [--only k]
 //!     [--n-wp 384] [--grid 0.05] [--no-reference] [--csv out.csv]
 //! cargo run --release --example seed_reference -- --doubling [--every 8] [--n-wp 384]
-//! cargo run --release --example seed_reference -- --seed-runs [--csv out.csv]
+//! cargo run --release --example seed_reference -- --seed-runs [--step rad] [--csv out.csv]
 //! ```
 //! Default: one CSV row per direction (`--csv`, else stdout), the counts on stderr; where the
 //! reference stops, it is run again at twice the waypoints (`ref2_*`).
@@ -85,6 +85,7 @@ fn main() -> helixreach::Result<()> {
     let args = Args(std::env::args().skip(1).collect());
     let mut rig = Rig::load("sawyer-seed")?;
     rig.planner.margin = 0.0;
+    rig.planner.search_step = args.get("--step", rig.planner.search_step);
     if args.has("--seed-runs") {
         return seed_runs(&args, &rig);
     }

@@ -18,8 +18,8 @@
 //!   predictor `q ± h·n̂` (n̂ the cofactor null direction of the Jacobian, max-norm 1), halved
 //!   at most `WALK_HALVINGS` times when the corrector jumps or does not move forward (the rule
 //!   of [`crate::planning::self_motion`]): a walk stops within h/8 of where its curve leaves the
-//!   valid set (a joint limit, a fold), a twentieth of the self-motion resolution at the seed
-//!   rig's 0.16 / 0.04 rad; a longer h is a chain of equal sub-steps within that
+//!   valid set (a joint limit, a fold), 0.005 rad with the seed rig's sub-steps of 0.04 rad; a
+//!   longer h is a chain of equal sub-steps within that
 //!   bound, each one such step from the last with its end and segment checked, the chain
 //!   ending at its last accepted point ([`Linker::walk`]).
 //! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same

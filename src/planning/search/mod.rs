@@ -44,7 +44,10 @@
 //!   0.04, 0.08, 0.12 and 0.16 rad give the same class on every ray of the 200-direction
 //!   quarter-sphere sample (`s_reached` one or two slices less on at most 3 of its 43 partial
 //!   rays) and the same answer on every one of the seed's 173 directions; the node count goes
-//!   as 1/step and the cost at 0.16 is 0.4 of that at 0.04 (`docs/RESULTS.md`).
+//!   as 1/step and the cost at 0.16 is 0.4 of that at 0.04 (`docs/RESULTS.md`). 0.32 costs 0.3
+//!   of 0.04 with the same classes there and on the seed's 58 runs, but with reconfiguration
+//!   forbidden (starts sampled on their curves only) it loses a ray of the 50-ray sample that
+//!   0.16 reaches: the default is 0.16.
 //! - **Roll** (`motor`): steps of `linking::ROLL_STEP`; with a freely turning motor the roll is
 //!   compared modulo a whole turn (submodule `graph`).
 //! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
@@ -103,7 +106,7 @@
 //! A partial ray costs its reachable piece, or the far piece if that one is exhausted first:
 //! cheap when either is small; when both are large regions of the strip below s* (different
 //! self-motion families, separated by joint limits; on the seed rig rays blocked just past
-//! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.23 s, about 7 µs per node; the count
+//! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.23 s, about 7.5 µs per node; the count
 //! goes as 1/`search_step`: 116,000 at 0.04), and those few rays dominate a sweep's CPU. In
 //! roll `motor` the pieces are 2-D per slice (self-motion × roll, a node per
 //! `search_step` × `ROLL_STEP`), and such rays exceed the default node bound. Figures:
