@@ -91,6 +91,14 @@
 //! is an edge of the allowed one); the sampled nodes differ (merging depends on the order), so
 //! it is tested per direction rather than built in.
 //!
+//! A finer `planner.search_step` is **not** monotone by construction: each step samples its
+//! own points of the self-motion curves and merges within its own radius, so a valid arc
+//! narrower than a step can be met at one step and missed at another. On the seed rig's
+//! 10,000-direction quarter-sphere lattice 5 rays are testable at 0.32 and partial at the
+//! default 0.16 (and 10 the other way); ray 3,169 is testable at 0.04, 0.08 and 0.32, partial at
+//! 0.12, 0.16 and 0.24 (`docs/RESULTS.md`). Tests check 0.05 ⊇ 0.1 ⊇ 0.36 per direction on
+//! their sample.
+//!
 //! # Bounds
 //! At most `planner.max_search_nodes` nodes per ray (≈ 112 bytes each, and at most 4 KB of
 //! bucket heads per slice a node lies on); a search that needs
