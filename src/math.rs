@@ -303,6 +303,14 @@ pub fn so3_left_jacobian(phi: &Vec3) -> Mat3 {
 /// Rotation angle of `R` in [0, π], robust near 0 and π (uses both the trace and the skew part).
 #[inline]
 pub fn rotation_angle(r: &Mat3) -> Real {
+    let (s, c) = rotation_sin_cos(r);
+    s.atan2(c)
+}
+
+/// Sine and cosine of the rotation angle θ of `R`: |skew part| and (tr R − 1)/2, so that
+/// θ = atan2(s, c) ([`rotation_angle`]); for comparisons of θ without the arctangent.
+#[inline]
+pub fn rotation_sin_cos(r: &Mat3) -> (Real, Real) {
     let s = 0.5
         * Vec3::new(
             r[(2, 1)] - r[(1, 2)],
@@ -310,8 +318,7 @@ pub fn rotation_angle(r: &Mat3) -> Real {
             r[(1, 0)] - r[(0, 1)],
         )
         .norm();
-    let c = 0.5 * (r.trace() - 1.0);
-    s.atan2(c)
+    (s, 0.5 * (r.trace() - 1.0))
 }
 
 #[cfg(test)]

@@ -327,11 +327,15 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
     if let (Some((a1, b1, r1)), Some((a2, b2, r2))) = (x.capsule(), y.capsule()) {
         // Exact for two swept spheres; else a broad phase (the capsules contain the shapes).
         let rr = r1 + r2 + pad;
-        let touch = segment_distance_squared(&a1, &b1, &a2, &b2) <= rr * rr;
+        let (sx, ty, d2) = segment_closest(&a1, &b1, &a2, &b2);
+        let touch = d2 <= rr * rr;
         if !touch || (x.ssv().is_some() && y.ssv().is_some()) {
             return touch;
         }
-        if let Some(touch) = cylinder_decides(x, y, pad).or_else(|| cylinder_decides(y, x, pad)) {
+        // The capsules touch: the cylinder phase, given the closest point's parameter on each.
+        if let Some(touch) =
+            cylinder_decides(x, y, pad, sx).or_else(|| cylinder_decides(y, x, pad, ty))
+        {
             return touch;
         }
     }
@@ -354,19 +358,20 @@ pub(super) fn intersects(x: &Part<'_>, y: &Part<'_>) -> bool {
     }
 }
 
-/// The cylinder phase (module docs): when `x` is a cylinder and `y` has a containing capsule
-/// that touches the cylinder's axis capsule, `Some(false)` if `y`'s capsule lies beyond one of
-/// the cylinder's end planes by more than its radius and the padding, `Some(true)` if `y` is a
-/// swept sphere whose closest point on the cylinder's axis is interior to the axis (then the
-/// segments' distance is the distance to the lateral surface plus the cylinder's radius, and the
-/// capsules touching means the shapes touch), `None` otherwise (the closest feature is an end
-/// disc: parry decides). `pad` is both parts' padding.
+/// The cylinder phase (module docs), for a pair whose capsules touch: when `x` is a cylinder
+/// and `y` has a containing capsule, `Some(false)` if `y`'s capsule lies beyond one of the
+/// cylinder's end planes by more than its radius and the padding, `Some(true)` if `y` is a
+/// swept sphere and `t`, the parameter on the cylinder's axis of the two segments' closest
+/// points ([`segment_closest`]), is interior (the closest points then differ perpendicularly to
+/// the axis: the segments' distance is the distance to the lateral surface plus the cylinder's
+/// radius, so capsules that touch mean shapes that touch), `None` otherwise (the closest feature
+/// is an end disc: parry decides). `pad` is both parts' padding.
 #[inline]
-fn cylinder_decides(x: &Part<'_>, y: &Part<'_>, pad: Real) -> Option<bool> {
+fn cylinder_decides(x: &Part<'_>, y: &Part<'_>, pad: Real, t: Real) -> Option<bool> {
     let Part::Body(bx, px) = *x else {
         return None;
     };
-    let rc = bx.cylinder?;
+    bx.cylinder?;
     let (a2, b2, r2) = y.capsule()?;
     let rho = r2 + pad;
     let axis = px.b - px.a;
@@ -380,14 +385,9 @@ fn cylinder_decides(x: &Part<'_>, y: &Part<'_>, pad: Real) -> Option<bool> {
         return Some(false);
     }
     y.ssv()?;
-    let (_, t, d2) = segment_closest(&a2, &b2, &px.a, &px.b);
     // Interior with a margin: at a clamped end the lateral-surface argument does not hold.
     const INTERIOR: Real = 1e-9;
-    if t > INTERIOR && t < 1.0 - INTERIOR {
-        let rr = rc + rho;
-        return Some(d2 <= rr * rr);
-    }
-    None
+    (t > INTERIOR && t < 1.0 - INTERIOR).then_some(true)
 }
 
 /// The box phase (module docs): when `x` is a box and `y` has a containing capsule,
@@ -679,10 +679,15 @@ mod tests {
             let (a, b) = (at.transform_point(&a), at.transform_point(&b));
             let seg = Part::Segment(a, b, r);
             let x = Part::Body(&bx, &px);
-            match cylinder_decides(&x, &seg, pad) {
-                Some(true) => touch += 1,
-                Some(false) => free += 1,
-                None => ends += 1,
+            // How the phase decides the pair when the capsules touch (as `intersects` calls it).
+            let (t, _, d2) = segment_closest(&px.a, &px.b, &a, &b);
+            let rr = radius + r + pad;
+            if d2 <= rr * rr {
+                match cylinder_decides(&x, &seg, pad, t) {
+                    Some(true) => touch += 1,
+                    Some(false) => free += 1,
+                    None => ends += 1,
+                }
             }
             let want = parry_intersects(&x, &seg);
             assert_eq!(
