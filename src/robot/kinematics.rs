@@ -13,8 +13,8 @@
 //! `T_tool(q) = C_0 · Rz(q_0) · C_1 · Rz(q_1) ⋯ C_{n−1} · Rz(q_{n−1}) · C_tool`,
 //!
 //! and `R · Rz(q)` is two column combinations (no matrix product). Each step costs one
-//! sine–cosine pair (`libm::sincos`, the Rust port of musl's: under 1 ulp, without the rounding
-//! mode save and restore of the platform's), one 3×3 product and one matrix–vector product. A prismatic joint (a linear rail)
+//! sine–cosine pair ([`crate::robot::joint_sincos`]: within 2 ulp), one 3×3 product and one
+//! matrix–vector product. A prismatic joint (a linear rail)
 //! is the translation `Tz(q)` instead of `Rz(q)` (`q` in metres).
 //!
 //! The geometric Jacobian `J(q)` (6×n, root frame) maps joint rates to the tool twist
@@ -34,6 +34,7 @@
 //! the chain's dof are zero.
 
 use crate::math::{Iso3, Mat3, Quat, Real, Vec3};
+use crate::robot::joint_sincos;
 use nalgebra::SMatrix;
 
 /// Largest number of actuated joints a compiled chain supports.
@@ -221,6 +222,9 @@ pub struct Chain {
     tool: Frame,
     /// Every link in topological order.
     links: Vec<LinkStep>,
+    /// The frame of each link that no joint moves (it and its ancestors fixed): the base,
+    /// pedestals, mounts. [`Chain::link_frames`] copies these.
+    constant: Vec<Option<Frame>>,
 }
 
 impl Chain {
@@ -242,13 +246,31 @@ impl Chain {
                 acc = Frame::new(a_rot.transpose(), Vec3::zeros());
             }
         }
+        let mut constant: Vec<Option<Frame>> = Vec::with_capacity(links.len());
+        for step in &links {
+            let parent = match step.parent {
+                Some(p) => constant.get(p).copied().flatten(),
+                None => Some(Frame::identity()),
+            };
+            let f = match (parent, step.motion) {
+                (Some(f), LinkMotion::Fixed) => Some(f.mul(&step.origin)),
+                _ => None,
+            };
+            constant.push(f);
+        }
         Chain {
             dof: pre.len(),
             pre,
             prismatic,
             tool: acc,
             links,
+            constant,
         }
+    }
+
+    /// The frame of link `i` when no joint moves it (root frame), else `None`.
+    pub fn constant_frame(&self, i: usize) -> Option<Frame> {
+        self.constant.get(i).copied().flatten()
     }
 
     /// Whether actuated joint `i` is prismatic.
@@ -279,7 +301,7 @@ impl Chain {
         // The sines are independent of the product chain: compute them first so that they overlap.
         let mut sc = [(0.0, 1.0); MAX_DOF];
         for (x, &qi) in sc.iter_mut().zip(q) {
-            *x = libm::sincos(qi);
+            *x = joint_sincos::sincos(qi);
         }
         let mut rot = Mat3::identity();
         let mut pos = Vec3::zeros();
@@ -314,7 +336,7 @@ impl Chain {
                 rot = m;
                 pos += rot.column(2) * qi;
             } else {
-                let (s, co) = libm::sincos(qi);
+                let (s, co) = joint_sincos::sincos(qi);
                 rot = mul_rot_z(&m, s, co);
             }
             axes[i] = rot.column(2).into_owned();
@@ -348,6 +370,10 @@ impl Chain {
         debug_assert_eq!(q.len(), self.dof);
         debug_assert_eq!(out.len(), self.links.len());
         for (i, step) in self.links.iter().enumerate() {
+            if let Some(f) = self.constant[i] {
+                out[i] = f;
+                continue;
+            }
             let parent = match step.parent {
                 Some(p) => out[p],
                 None => Frame::identity(),
@@ -357,7 +383,7 @@ impl Chain {
                 LinkMotion::Fixed => {}
                 LinkMotion::Revolute { dof, axis, is_z } => {
                     if is_z {
-                        let (s, c) = libm::sincos(q[dof]);
+                        let (s, c) = joint_sincos::sincos(q[dof]);
                         f.rot = mul_rot_z(&f.rot, s, c);
                     } else {
                         f.rot *= axis_rotation(&axis, q[dof]);

@@ -108,6 +108,9 @@ pub struct CollisionModel {
     link_names: Vec<String>,
     /// The robot's bodies (every one [`Owner::Link`]).
     bodies: Vec<Body>,
+    /// Each body's pose when its link never moves (`Chain::constant_frame`): copied, not
+    /// recomputed, by [`CollisionModel::update`].
+    constant_posed: Vec<Option<Posed>>,
     /// The scene's bodies (every one [`Owner::Obstacle`]) and their fixed poses.
     obstacles: Vec<Body>,
     obstacle_posed: Vec<Posed>,
@@ -305,8 +308,21 @@ impl CollisionModel {
             ));
         }
         let self_pairs = disabled::self_pairs(model, &bodies, disabled)?;
+        let chain = model.chain();
+        let constant_posed = bodies
+            .iter()
+            .map(|b| match b.owner {
+                Owner::Link(l) => chain.constant_frame(l).map(|f| {
+                    let mut p = Posed::default();
+                    b.pose(&f, &mut p);
+                    p
+                }),
+                Owner::Obstacle(_) => None,
+            })
+            .collect();
         let mut cm = CollisionModel {
-            chain: model.chain().clone(),
+            chain: chain.clone(),
+            constant_posed,
             link_names: links.iter().map(|l| l.name.clone()).collect(),
             n_meshes: links.iter().map(|l| l.meshes.len()).sum(),
             capsules,
@@ -470,9 +486,16 @@ impl CollisionModel {
     /// Pose every body at `q` (`q.len()` = the chain's dof).
     pub fn update(&self, q: &[Real], ws: &mut CollisionWorkspace) {
         self.chain.link_frames(q, &mut ws.frames);
-        for (b, p) in self.bodies.iter().zip(ws.posed.iter_mut()) {
-            if let Owner::Link(l) = b.owner {
-                b.pose(&ws.frames[l], p);
+        for ((b, p), fixed) in self
+            .bodies
+            .iter()
+            .zip(ws.posed.iter_mut())
+            .zip(&self.constant_posed)
+        {
+            match (fixed, b.owner) {
+                (Some(f), _) => *p = *f,
+                (None, Owner::Link(l)) => b.pose(&ws.frames[l], p),
+                (None, Owner::Obstacle(_)) => {}
             }
         }
     }
