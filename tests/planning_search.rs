@@ -452,16 +452,19 @@ fn search_is_monotone_per_direction() {
 
 /// A testable ray's path: starts at s = 0 and ends at s_end; every step within the joint-step
 /// bound; every configuration holds its waypoint's pose (1e-9 m / rad) and is collision-free
-/// against its rod (capsules from the pose map's centerline, not the planner's); reconfiguration
-/// points keep s; back-off points decrease s, only below s*; the trajectory's phases are those
-/// of the plan.
-fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) {
+/// against its rod (capsules from the pose map's centerline, not the planner's), and so is every
+/// joint-linear step between two points, sampled at most `planner.segment_check_step` apart
+/// against the rod of the larger s; reconfiguration points keep s; back-off points decrease s,
+/// only below s*; the trajectory's phases are those of the plan. Returns the number of interior
+/// samples checked.
+fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) -> usize {
     let rig = planner.rig();
     let mut cm = CollisionModel::for_model(planner.model()).unwrap();
     cm.set_obstacles(&rig.obstacles).unwrap();
     let mut ws = cm.workspace();
     let map = PoseMap::new(rig, 0.0);
     let path = plan.path.as_ref().unwrap();
+    let mut interior = 0;
     assert_eq!(path[0].waypoint.s, 0.0);
     assert!((path.last().unwrap().waypoint.s - plan.s_end).abs() <= 1e-12 * plan.s_end);
     for (k, p) in path.iter().enumerate() {
@@ -485,6 +488,20 @@ fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) 
             step <= rig.planner.max_joint_step + 1e-12,
             "{d:?} {k}: {step}"
         );
+        let upper = if p.waypoint.s >= a.waypoint.s { p } else { a };
+        let rod = map
+            .centerline(upper.waypoint.kto, rig.planner.rod_capsules)
+            .unwrap();
+        let n = (step / rig.planner.segment_check_step).ceil() as usize;
+        for m in 1..n {
+            let t = m as Real / n as Real;
+            let q: Vec<Real> = (0..p.q.len())
+                .map(|j| a.q[j] + t * (p.q[j] - a.q[j]))
+                .collect();
+            let hit = cm.check(&q, &mut ws, Some(&rig.rod_geometry(&rod)));
+            assert!(hit.is_none(), "{d:?} step {k} at t = {t}: {hit:?}");
+            interior += 1;
+        }
         match p.phase {
             Phase::Reconfigure => assert_eq!(p.waypoint.s, a.waypoint.s),
             Phase::Backoff => {
@@ -504,6 +521,7 @@ fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) 
         n_back,
         path.iter().filter(|p| p.phase == Phase::Backoff).count()
     );
+    interior
 }
 
 /// Paths of the testable rays of a coarse rig (24 slices: most edges are bridges) are valid

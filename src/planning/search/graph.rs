@@ -41,6 +41,10 @@
 //! them), checked against the same rods, within the same step bound, so it is an edge of the
 //! graph and the parent is already a node. That move is not tracked again.
 //!
+//! With [`Rules::defer_segments`] an edge of one step is kept once its end is valid, marked
+//! unchecked; [`Graph::check_deferred`] tests the marked segments of one path (parent module
+//! docs, "Deferred segment tests").
+//!
 //! # Bound
 //! At most `planner.max_search_nodes` nodes (each ≈ 100 bytes): a search that would create more
 //! stops and the ray is `undecided` (never a guessed class).
@@ -118,6 +122,9 @@ pub(crate) struct Rules {
     pub roll: bool,
     /// Node bound.
     pub max_nodes: usize,
+    /// Defer the interior collision test of single-step edges (module docs, "Deferred
+    /// segment tests"): the node is kept with its edge marked unchecked.
+    pub defer_segments: bool,
 }
 
 /// The search graph of one ray.
@@ -136,6 +143,8 @@ pub(crate) struct Graph {
     queue: BinaryHeap<(bool, u32, u8, u32)>,
     /// Per node: on a probe chain (a probe start and its load steps).
     probe: Vec<bool>,
+    /// Per node: the interior of the segment from its parent is not yet checked.
+    unchecked: Vec<bool>,
     /// Probe entries in the queue.
     probing: usize,
     /// Rejected forward (load) moves per slice, by cause.
@@ -190,6 +199,7 @@ impl Graph {
             n_buckets: ((span / width).floor() as usize + 1).min(MAX_BUCKETS + 1),
             queue: BinaryHeap::new(),
             probe: Vec::new(),
+            unchecked: Vec::new(),
             probing: 0,
             causes: vec![CauseCounts::default(); n_slices],
             farthest: 0,
@@ -242,6 +252,35 @@ impl Graph {
         None
     }
 
+    /// Check the deferred segments on the path to node `end` from the last slice-0 node before
+    /// its first load step (where a path begins: [`super::path`]); `false` at the first one in
+    /// collision. Checked edges are marked so.
+    pub fn check_deferred(&mut self, end: u32, linker: &mut Linker<'_>) -> bool {
+        let mut chain = Vec::new();
+        let mut id = end;
+        while id != NONE {
+            chain.push(id);
+            id = self.nodes[id as usize].parent;
+        }
+        // Root first; the edges into the nodes after the first one off slice 0.
+        chain.reverse();
+        let first = chain
+            .iter()
+            .position(|&i| self.nodes[i as usize].c.slice != 0)
+            .unwrap_or(chain.len());
+        for &i in &chain[first..] {
+            let n = self.nodes[i as usize];
+            if self.unchecked[i as usize] {
+                let parent = self.nodes[n.parent as usize].c;
+                if linker.accept_segment(&parent, &n.c).is_err() {
+                    return false;
+                }
+                self.unchecked[i as usize] = false;
+            }
+        }
+        true
+    }
+
     /// Add a node and queue it (on a probe chain when its load step came from one).
     pub fn insert(&mut self, n: Node) -> u32 {
         let probe = n.via == Via::Load && self.probe[n.parent as usize];
@@ -268,6 +307,7 @@ impl Graph {
         self.queue.push((probe, n.c.slice, LOAD, id));
         self.probing += usize::from(probe);
         self.probe.push(probe);
+        self.unchecked.push(false);
         self.nodes.push(n);
         id
     }
@@ -378,7 +418,12 @@ impl Graph {
                 continue;
             }
             if !bridged {
-                if let Err(cause) = linker.accept(&x, &y) {
+                let checked = if rules.defer_segments {
+                    linker.accept_end(&y)
+                } else {
+                    linker.accept(&x, &y)
+                };
+                if let Err(cause) = checked {
                     if counted {
                         self.causes[slice as usize].add(cause);
                     }
@@ -402,6 +447,8 @@ impl Graph {
             });
             if bridged {
                 self.bridges.insert(nid, std::mem::take(&mut linker.bridge));
+            } else {
+                self.unchecked[nid as usize] = rules.defer_segments;
             }
             self.fresh.push(nid);
             if y.slice == goal {
@@ -529,5 +576,99 @@ mod tests {
                 assert!(g.find(&near).is_some());
             }
         }
+    }
+
+    /// `check_deferred` tests exactly the unchecked edges of the path after its last slice-0
+    /// node before the first load step, by the segment rule (samples at most
+    /// `planner.segment_check_step` apart, the rod of the larger slice): on paths start →
+    /// (load) slice 1 → (inside) another configuration, its answer equals a reference of the
+    /// test's own (a collision model and the pose map's centreline) for jumps to start
+    /// configurations of every start component and to random joint vectors — some in
+    /// collision, some free —; a colliding
+    /// move at slice 0 before the first load is not on the path; a checked edge is not tested.
+    #[test]
+    fn deferred_segments_are_checked_on_the_path_only() {
+        use crate::planning::planner::Planner;
+        use crate::planning::pose_path::PoseMap;
+        use crate::planning::rig::{Rig, RollMode};
+        use crate::planning::search::slices::Slices;
+        use crate::robot::CollisionModel;
+        let rig = Rig::load("sawyer-seed").unwrap();
+        let planner = Planner::new(rig.clone()).unwrap();
+        let dir = crate::directions::fibonacci(200, true).unwrap()[100];
+        let s_star = crate::boundary::continuum::critical_s(&dir, 1e-10)
+            .unwrap()
+            .s_star;
+        let slices = Slices::new(&planner, &dir, s_star, 0.0).unwrap();
+        let mut linker = Linker::new(&planner, &slices).unwrap();
+        let mut cm = CollisionModel::for_model(planner.model()).unwrap();
+        cm.set_obstacles(&rig.obstacles).unwrap();
+        let mut ws = cm.workspace();
+        let rod1 = PoseMap::new(&rig, 0.0)
+            .centerline(slices.wps[1].kto, rig.planner.rod_capsules)
+            .unwrap();
+        let reference_free = |a: &Q, b: &Q, ws: &mut crate::robot::CollisionWorkspace| {
+            let dmax = (0..7).map(|j| (b[j] - a[j]).abs()).fold(0.0, Real::max);
+            let n = (dmax / rig.planner.segment_check_step).ceil() as usize;
+            (1..n).all(|m| {
+                let t = m as Real / n as Real;
+                let q: Vec<Real> = (0..7).map(|j| a[j] + t * (b[j] - a[j])).collect();
+                cm.check(&q, ws, Some(&rig.rod_geometry(&rod1))).is_none()
+            })
+        };
+        let starts: Vec<Q> = planner
+            .start(RollMode::Fixed)
+            .unwrap()
+            .comps
+            .iter()
+            .flat_map(|c| c.iter().step_by(9).map(|n| n.q))
+            .collect();
+        let a = starts[0];
+        // Other starts, and random joint vectors in the limits (many of their segments cross
+        // the pedestal or the arm itself).
+        let (lo, hi) = (planner.model().lower(), planner.model().upper());
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut targets = starts[1..].to_vec();
+        for _ in 0..20 {
+            let mut q = [0.0; crate::robot::MAX_DOF];
+            for j in 0..7 {
+                q[j] = rng.random_range(lo[j]..hi[j]);
+            }
+            targets.push(q);
+        }
+        let (mut blocked, mut free) = (0, 0);
+        for &q in &targets {
+            let mut g = Graph::new(slices.len(), 7, 0, (-3.05, 3.05), 1e-9, None);
+            let node = |slice, q, parent, via| Node {
+                c: Config { slice, q, psi: 0.0 },
+                parent,
+                via,
+            };
+            let root = g.insert(node(0, a, NONE, Via::Start));
+            // A colliding or free jump at slice 0, then the load: only the load is on the path.
+            let jump0 = g.insert(node(0, q, root, Via::Reconfigure));
+            let load0 = g.insert(node(1, q, jump0, Via::Load));
+            g.unchecked[jump0 as usize] = true;
+            g.unchecked[load0 as usize] = true;
+            assert!(g.check_deferred(load0, &mut linker));
+            assert!(!g.unchecked[load0 as usize] && g.unchecked[jump0 as usize]);
+            // The load, then the jump at slice 1.
+            let load = g.insert(node(1, a, root, Via::Load));
+            let jump = g.insert(node(1, q, load, Via::Reconfigure));
+            g.unchecked[load as usize] = true;
+            g.unchecked[jump as usize] = true;
+            let expect = reference_free(&a, &q, &mut ws);
+            assert_eq!(g.check_deferred(jump, &mut linker), expect);
+            assert_eq!(g.unchecked[jump as usize], !expect);
+            if expect {
+                free += 1;
+            } else {
+                blocked += 1;
+                // Marked checked, an edge is taken as it is.
+                g.unchecked[jump as usize] = false;
+                assert!(g.check_deferred(jump, &mut linker));
+            }
+        }
+        assert!(blocked >= 1 && free >= 1, "{blocked} blocked, {free} free");
     }
 }

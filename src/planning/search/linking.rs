@@ -287,9 +287,24 @@ impl<'a> Linker<'a> {
 
     /// The collision tests of the edge x → y: y itself, then the joint-linear segment.
     pub fn accept(&mut self, x: &Config, y: &Config) -> std::result::Result<(), BlockCause> {
+        self.accept_end(y)?;
+        self.accept_segment(x, y)
+    }
+
+    /// The collision test of an edge's end y.
+    pub fn accept_end(&mut self, y: &Config) -> std::result::Result<(), BlockCause> {
         let dof = self.planner.dof;
         self.slices
-            .check(self.planner, y.slice as usize, &y.q[..dof], &mut self.ws)?;
+            .check(self.planner, y.slice as usize, &y.q[..dof], &mut self.ws)
+    }
+
+    /// The collision test of the interior of the joint-linear segment x → y, against the rod
+    /// of the larger slice.
+    pub fn accept_segment(
+        &mut self,
+        x: &Config,
+        y: &Config,
+    ) -> std::result::Result<(), BlockCause> {
         let i = x.slice.max(y.slice) as usize;
         self.slices
             .segment(self.planner, i, &x.q, &y.q, &mut self.ws)
