@@ -8,7 +8,6 @@
 //! | [`urdf`] | loading with urdf-rs, validation, the built-in robots ([`builtin`]) |
 //! | [`kinematics`] | the compiled [`Chain`]: tool pose, all link frames, 6×n geometric [`Jacobian`] |
 //! | [`collision`] | parry collision: self (filtered pairs), scene obstacles, the rod as capsules; clearance |
-//! | [`joint_sincos`] | sine and cosine of joint angles (restricted range, within 2 ulp) |
 //! | [`ik`] | box-constrained Levenberg–Marquardt IK: all distinct solutions, track mode |
 //! | `k_bridge` | (feature `interop`) a robot as a k chain (nalgebra 0.30): the reference FK and peer IK; the only nalgebra-0.30 code |
 //!
@@ -24,7 +23,6 @@
 
 pub mod collision;
 pub mod ik;
-pub mod joint_sincos;
 #[cfg(feature = "interop")]
 pub mod k_bridge;
 pub mod kinematics;
