@@ -364,7 +364,8 @@ impl Chain {
     }
 
     /// Every link frame (root frame), in the order of [`Chain::links`], written into `out`
-    /// (`out.len()` must be [`Chain::n_links`]).
+    /// (`out.len()` must be [`Chain::n_links`]). The frames of links that no joint moves are
+    /// composed once, when the chain is compiled, and copied here.
     pub fn link_frames(&self, q: &[Real], out: &mut [Frame]) {
         debug_assert_eq!(q.len(), self.dof);
         debug_assert_eq!(out.len(), self.links.len());

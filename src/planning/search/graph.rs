@@ -252,22 +252,29 @@ impl Graph {
         None
     }
 
-    /// Check the deferred segments on the path to node `end` from the last slice-0 node before
-    /// its first load step (where a path begins: [`super::path`]); `false` at the first one in
-    /// collision. Checked edges are marked so.
-    pub fn check_deferred(&mut self, end: u32, linker: &mut Linker<'_>) -> bool {
+    /// The nodes from a root (a start) to `end`, root first, and the index of the first one off
+    /// slice 0 (the length when there is none).
+    pub fn chain_to(&self, end: u32) -> (Vec<u32>, usize) {
         let mut chain = Vec::new();
         let mut id = end;
         while id != NONE {
             chain.push(id);
             id = self.nodes[id as usize].parent;
         }
-        // Root first; the edges into the nodes after the first one off slice 0.
         chain.reverse();
         let first = chain
             .iter()
             .position(|&i| self.nodes[i as usize].c.slice != 0)
             .unwrap_or(chain.len());
+        (chain, first)
+    }
+
+    /// Check the deferred segments on the path to node `end` from the last slice-0 node before
+    /// its first load step (where a path begins: [`super::path`]); `false` at the first one in
+    /// collision. Checked edges are marked so.
+    pub fn check_deferred(&mut self, end: u32, linker: &mut Linker<'_>) -> bool {
+        // The edges into the nodes from the first one off slice 0.
+        let (chain, first) = self.chain_to(end);
         for &i in &chain[first..] {
             let n = self.nodes[i as usize];
             if self.unchecked[i as usize] {

@@ -46,18 +46,8 @@ pub(crate) fn extract(
     end: u32,
     want_path: bool,
 ) -> Result<Extracted> {
-    let mut chain = Vec::new();
-    let mut id = end;
-    while id != u32::MAX {
-        chain.push(id);
-        id = graph.nodes[id as usize].parent;
-    }
-    chain.reverse();
     // Start at the last slice-0 node before the first load step.
-    let first = chain
-        .iter()
-        .position(|&i| graph.nodes[i as usize].c.slice != 0)
-        .unwrap_or(chain.len());
+    let (chain, first) = graph.chain_to(end);
     let chain = &chain[first.saturating_sub(1)..];
     let dof = planner.dof;
     let mut out = Vec::new();

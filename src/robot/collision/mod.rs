@@ -27,8 +27,9 @@
 //! box–box, cylinder–box and mesh-hull pairs, go to parry's `query::intersection_test` /
 //! `query::closest_points` (module `narrow`). A mesh hull is checked as
 //! [`CollisionKind`] says: exactly, as its fitted capsule, or (the default) exactly only where
-//! its fitted capsule touches the other part's capsule. A [`CollisionWorkspace`] holds the link
-//! frames and posed bodies, sized once: no allocation per check.
+//! its fitted capsule touches the other part's capsule. Bodies of links that no joint moves
+//! (base, pedestal, mounts) are posed once, when the model is built. A [`CollisionWorkspace`]
+//! holds the link frames and posed bodies, sized once: no allocation per check.
 
 pub mod disabled;
 pub mod fit;
