@@ -595,21 +595,10 @@ mod tests {
     /// move at slice 0 before the first load is not on the path; a checked edge is not tested.
     #[test]
     fn deferred_segments_are_checked_on_the_path_only() {
-        use crate::planning::planner::Planner;
         use crate::planning::pose_path::PoseMap;
-        use crate::planning::rig::{Rig, RollMode};
-        use crate::planning::search::slices::Slices;
-        use crate::robot::CollisionModel;
-        let rig = Rig::load("sawyer-seed").unwrap();
-        let planner = Planner::new(rig.clone()).unwrap();
-        let dir = crate::directions::fibonacci(200, true).unwrap()[100];
-        let s_star = crate::boundary::continuum::critical_s(&dir, 1e-10)
-            .unwrap()
-            .s_star;
-        let slices = Slices::new(&planner, &dir, s_star, 0.0).unwrap();
+        use crate::planning::rig::RollMode;
+        let (rig, planner, slices, cm) = super::super::slices::seed_ray_100(|_| {});
         let mut linker = Linker::new(&planner, &slices).unwrap();
-        let mut cm = CollisionModel::for_model(planner.model()).unwrap();
-        cm.set_obstacles(&rig.obstacles).unwrap();
         let mut ws = cm.workspace();
         let rod1 = PoseMap::new(&rig, 0.0)
             .centerline(slices.wps[1].kto, rig.planner.rod_capsules)

@@ -467,8 +467,8 @@ fn fast_null_direction(jac: &Jacobian, dof: usize) -> Option<Q> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::planning::rig::{Rig, RollMode};
-    use crate::robot::{CollisionModel, RobotModel};
+    use crate::planning::rig::RollMode;
+    use crate::robot::RobotModel;
 
     /// A walk of `search_step` 0.16 rad on the seed rig (joint-step bound 0.05) is a chain of
     /// four equal sub-steps: every point holds the slice's pose (1e-9 m / rad), every sub-step
@@ -478,18 +478,10 @@ mod tests {
     /// starts spread over every start component, both directions.
     #[test]
     fn a_long_walk_is_a_chain_of_checked_sub_steps() {
-        let mut rig = Rig::load("sawyer-seed").unwrap();
-        rig.planner.search_step = 0.16;
+        let (rig, planner, slices, cm) =
+            super::super::slices::seed_ray_100(|rig| rig.planner.search_step = 0.16);
         let bound = rig.planner.max_joint_step;
-        let planner = Planner::new(rig.clone()).unwrap();
-        let dir = crate::directions::fibonacci(200, true).unwrap()[100];
-        let s_star = crate::boundary::continuum::critical_s(&dir, 1e-10)
-            .unwrap()
-            .s_star;
-        let slices = Slices::new(&planner, &dir, s_star, 0.0).unwrap();
         let mut linker = Linker::new(&planner, &slices).unwrap();
-        let mut cm = CollisionModel::for_model(planner.model()).unwrap();
-        cm.set_obstacles(&rig.obstacles).unwrap();
         let mut ws = cm.workspace();
         let rod = rig.rod_geometry(&slices.rods[0]);
         let target = slices.target(&planner, 0, 0.0);

@@ -179,3 +179,28 @@ pub(crate) fn segment_rod(
     }
     Ok(())
 }
+
+/// A fixture of the search's unit tests: the seed rig after `edit`, its planner, the slices of
+/// direction 100 of the 200-direction quarter-sphere lattice at azimuth 0 (s* of the continuum
+/// test), and a collision model of the test's own with the rig's obstacles.
+#[cfg(test)]
+pub(crate) fn seed_ray_100(
+    edit: impl FnOnce(&mut crate::planning::rig::Rig),
+) -> (
+    crate::planning::rig::Rig,
+    Planner,
+    Slices,
+    crate::robot::CollisionModel,
+) {
+    let mut rig = crate::planning::rig::Rig::load("sawyer-seed").unwrap();
+    edit(&mut rig);
+    let planner = Planner::new(rig.clone()).unwrap();
+    let dir = crate::directions::fibonacci(200, true).unwrap()[100];
+    let s_star = crate::boundary::continuum::critical_s(&dir, 1e-10)
+        .unwrap()
+        .s_star;
+    let slices = Slices::new(&planner, &dir, s_star, 0.0).unwrap();
+    let mut cm = crate::robot::CollisionModel::for_model(planner.model()).unwrap();
+    cm.set_obstacles(&rig.obstacles).unwrap();
+    (rig, planner, slices, cm)
+}
