@@ -8,6 +8,13 @@
 //! samples at most about h apart along each self-motion curve (roll `fixed`, 7-DOF), by a
 //! grid-like cover of h × `ROLL_STEP` (roll `motor`), or by its isolated points (6-DOF).
 //!
+//! Lookup: a slice's nodes are kept in cells, buckets of the redundancy joint at least the merge
+//! radius wide and, with roll moves, once the slice holds more than `SPLIT_AT` nodes, roll cells
+//! at least the roll merge radius wide (ψ modulo the period when it is compared modulo one,
+//! else folded modulo the cell count); a lookup scans the (at most) 3 × 3 cells around a
+//! configuration, so its cost is that of the nodes near it, not of the slice (a slice of a roll
+//! `motor` piece holds thousands of nodes spread over the roll).
+//!
 //! The roll ψ is the arm's turn about the rod tangent, unwrapped along each edge; the motor
 //! then stands at m = ω/c − ψ. When the motor turns freely (range (−∞, ∞)) the roll is compared
 //! modulo 2π: (q, ψ) and (q, ψ + 2π) hold the same rod end with the same joints, every move
@@ -46,8 +53,10 @@
 //! docs, "Deferred segment tests").
 //!
 //! # Bound
-//! At most `planner.max_search_nodes` nodes (each ≈ 100 bytes): a search that would create more
-//! stops and the ray is `undecided` (never a guessed class).
+//! At most `planner.max_search_nodes` nodes (each ≈ 100 bytes, and the cell heads: one row of
+//! buckets per slice with a node, a row of buckets × roll cells, at most `MAX_ROW_CELLS` heads of
+//! 4 bytes, per slice of more than `SPLIT_AT` nodes): a search that would create more stops and
+//! the ray is `undecided` (never a guessed class).
 
 use super::linking::{Config, Linker, Move, Proposal, ROLL_STEP};
 use crate::math::Real;
@@ -72,6 +81,13 @@ pub(crate) const NODE_BYTES: usize = 112;
 /// Most buckets of the redundancy joint per slice: a finer merge radius gets wider buckets
 /// (never narrower than the radius, so a lookup scans three).
 const MAX_BUCKETS: usize = 1024;
+
+/// Most cell heads of a slice split by roll (buckets × roll cells; 32 KB).
+const MAX_ROW_CELLS: usize = 8192;
+
+/// Nodes of a slice beyond which its buckets are split by roll (roll moves only): a slice
+/// holding fewer keeps one row of buckets.
+const SPLIT_AT: usize = 512;
 
 /// No node.
 const NONE: u32 = u32::MAX;
@@ -131,15 +147,22 @@ pub(crate) struct Rules {
 pub(crate) struct Graph {
     /// Nodes in insertion order.
     pub nodes: Vec<Node>,
-    /// Per slice: the last node inserted in each bucket of the redundancy joint (empty until
-    /// the slice gets a node; `NONE` for an empty bucket).
+    /// Per slice: the last node inserted in each cell (redundancy-joint bucket, or bucket ×
+    /// roll cell row-major once the slice is split; empty until the slice gets a node; `NONE`
+    /// for an empty cell).
     heads: Vec<Vec<u32>>,
-    /// Per node: the node inserted before it in its bucket (`NONE` for the first).
+    /// Per slice: its nodes.
+    counts: Vec<u32>,
+    /// Per node: the node inserted before it in its cell (`NONE` for the first).
     next: Vec<u32>,
     /// Lower end and width of the redundancy joint's buckets, and their number.
     red_lo: Real,
     width: Real,
     n_buckets: usize,
+    /// Roll cells per bucket of a split slice (1 without roll moves: never split) and their
+    /// width in ψ.
+    psi_cells: usize,
+    psi_width: Real,
     queue: BinaryHeap<(bool, u32, u8, u32)>,
     /// Per node: on a probe chain (a probe start and its load steps).
     probe: Vec<bool>,
@@ -176,27 +199,53 @@ pub(crate) enum Direction {
     },
 }
 
+/// How the merge rule meets the arm roll ψ (module docs, "Nodes and resolution").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum RollMerge {
+    /// No roll moves: every node has the start's ψ.
+    Constant,
+    /// Roll moves; ψ compared as it is (a bounded motor).
+    Unwrapped,
+    /// Roll moves; ψ compared modulo this period (a freely turning motor: 2π).
+    Periodic(Real),
+}
+
 impl Graph {
     /// An empty graph for `n_slices` slices of a `dof`-joint arm, bucketed on joint `red`
-    /// whose range is `red_range`; with `roll_period` the roll is compared modulo that period
-    /// (module docs, "Nodes and resolution").
+    /// whose range is `red_range` and, with roll moves, on the roll (module docs, "Nodes and
+    /// resolution").
     pub fn new(
         n_slices: usize,
         dof: usize,
         red: usize,
         red_range: (Real, Real),
         merge_q: Real,
-        roll_period: Option<Real>,
+        roll: RollMerge,
     ) -> Graph {
         let span = (red_range.1 - red_range.0).max(0.0);
         let width = merge_q.max(span / MAX_BUCKETS as Real);
+        let n_buckets = ((span / width).floor() as usize + 1).min(MAX_BUCKETS + 1);
+        let rpsi = MERGE_FRACTION * ROLL_STEP;
+        let most = (MAX_ROW_CELLS / n_buckets).max(1);
+        let psi_cells = match roll {
+            RollMerge::Constant => 1,
+            RollMerge::Unwrapped => most,
+            RollMerge::Periodic(p) => ((p / rpsi).floor() as usize).clamp(1, most),
+        };
+        let psi_width = match roll {
+            RollMerge::Periodic(p) => p / psi_cells as Real,
+            RollMerge::Constant | RollMerge::Unwrapped => rpsi,
+        };
         Graph {
             nodes: Vec::new(),
             heads: vec![Vec::new(); n_slices],
+            counts: vec![0; n_slices],
             next: Vec::new(),
             red_lo: red_range.0,
             width,
-            n_buckets: ((span / width).floor() as usize + 1).min(MAX_BUCKETS + 1),
+            n_buckets,
+            psi_cells,
+            psi_width,
             queue: BinaryHeap::new(),
             probe: Vec::new(),
             unchecked: Vec::new(),
@@ -206,7 +255,10 @@ impl Graph {
             fresh: Vec::new(),
             bridges: std::collections::HashMap::new(),
             merge_q,
-            roll_period,
+            roll_period: match roll {
+                RollMerge::Periodic(p) => Some(p),
+                RollMerge::Constant | RollMerge::Unwrapped => None,
+            },
             red,
             dof,
         }
@@ -223,30 +275,62 @@ impl Graph {
         }
     }
 
-    /// The node of `c`'s slice within the merge radius of `c`, if any.
+    /// The roll cell of `c` among `n` (1 on a slice not split): ψ modulo the period in cells
+    /// of `psi_width` (at least the roll merge radius, so two rolls within it are in the same
+    /// or cyclically neighbouring cells), or, unwrapped, ψ in cells of that radius folded
+    /// modulo the cell count.
+    fn roll_cell(&self, c: &Config, n: usize) -> usize {
+        if n == 1 {
+            return 0;
+        }
+        let k = match self.roll_period {
+            Some(p) => (c.psi.rem_euclid(p) / self.psi_width).floor(),
+            None => (c.psi / self.psi_width).floor(),
+        };
+        // Finite ψ: the cast saturates, the remainder folds it into the cells.
+        (k as i64).rem_euclid(n as i64) as usize
+    }
+
+    /// Roll cells per bucket of a slice's row: `psi_cells` once split, else 1.
+    fn cells_of(&self, row: &[u32]) -> usize {
+        if row.len() > self.n_buckets {
+            self.psi_cells
+        } else {
+            1
+        }
+    }
+
+    /// The node of `c`'s slice within the merge radius of `c`, if any: a scan of the 3 × 3
+    /// cells around it (fewer when a dimension has fewer cells).
     pub fn find(&self, c: &Config) -> Option<u32> {
         let row = self.heads.get(c.slice as usize)?;
         if row.is_empty() {
             return None;
         }
         let k = self.bucket(c);
+        let n = self.cells_of(row);
+        let r = self.roll_cell(c, n);
+        let rolls = [r, (r + 1) % n, (r + n - 1) % n];
+        let rolls = &rolls[..n.min(3)];
         let rpsi = MERGE_FRACTION * ROLL_STEP;
         for kk in k.saturating_sub(1)..=(k + 1).min(self.n_buckets - 1) {
-            let mut id = row[kk];
-            while id != NONE {
-                let o = &self.nodes[id as usize].c;
-                // Joints first (most candidates differ there), then the roll.
-                if (0..self.dof).all(|j| (o.q[j] - c.q[j]).abs() <= self.merge_q) {
-                    let mut dpsi = (o.psi - c.psi).abs();
-                    if let (true, Some(p)) = (dpsi > rpsi, self.roll_period) {
-                        let r = dpsi % p;
-                        dpsi = r.min(p - r);
+            for &rr in rolls {
+                let mut id = row[kk * n + rr];
+                while id != NONE {
+                    let o = &self.nodes[id as usize].c;
+                    // Joints first (most candidates differ there), then the roll.
+                    if (0..self.dof).all(|j| (o.q[j] - c.q[j]).abs() <= self.merge_q) {
+                        let mut dpsi = (o.psi - c.psi).abs();
+                        if let (true, Some(p)) = (dpsi > rpsi, self.roll_period) {
+                            let r = dpsi % p;
+                            dpsi = r.min(p - r);
+                        }
+                        if dpsi <= rpsi {
+                            return Some(id);
+                        }
                     }
-                    if dpsi <= rpsi {
-                        return Some(id);
-                    }
+                    id = self.next[id as usize];
                 }
-                id = self.next[id as usize];
             }
         }
         None
@@ -302,14 +386,21 @@ impl Graph {
 
     fn insert_as(&mut self, n: Node, probe: bool) -> u32 {
         let id = self.nodes.len() as u32;
-        let k = self.bucket(&n.c);
-        let nb = self.n_buckets;
-        let row = &mut self.heads[n.c.slice as usize];
-        if row.is_empty() {
-            row.resize(nb, NONE);
+        let slice = n.c.slice as usize;
+        if self.heads[slice].is_empty() {
+            self.heads[slice].resize(self.n_buckets, NONE);
         }
-        self.next.push(row[k]);
-        row[k] = id;
+        self.counts[slice] += 1;
+        if self.psi_cells > 1
+            && self.counts[slice] as usize > SPLIT_AT
+            && self.heads[slice].len() == self.n_buckets
+        {
+            self.split(slice);
+        }
+        let cells = self.cells_of(&self.heads[slice]);
+        let k = self.bucket(&n.c) * cells + self.roll_cell(&n.c, cells);
+        self.next.push(self.heads[slice][k]);
+        self.heads[slice][k] = id;
         self.farthest = self.farthest.max(n.c.slice);
         self.queue.push((probe, n.c.slice, LOAD, id));
         self.probing += usize::from(probe);
@@ -317,6 +408,29 @@ impl Graph {
         self.unchecked.push(false);
         self.nodes.push(n);
         id
+    }
+
+    /// Split a slice's buckets by roll: its nodes relinked into buckets × `psi_cells` cells,
+    /// each cell's list newest first (as inserted).
+    fn split(&mut self, slice: usize) {
+        let mut ids: Vec<u32> = Vec::with_capacity(self.counts[slice] as usize);
+        for &head in &self.heads[slice] {
+            let mut id = head;
+            while id != NONE {
+                ids.push(id);
+                id = self.next[id as usize];
+            }
+        }
+        ids.sort_unstable();
+        let n = self.psi_cells;
+        let mut row = vec![NONE; self.n_buckets * n];
+        for id in ids {
+            let c = &self.nodes[id as usize].c;
+            let k = self.bucket(c) * n + self.roll_cell(c, n);
+            self.next[id as usize] = row[k];
+            row[k] = id;
+        }
+        self.heads[slice] = row;
     }
 
     /// The merge radius in joints (rad).
@@ -483,10 +597,10 @@ mod tests {
         let rpsi = MERGE_FRACTION * ROLL_STEP;
         let mut q = [0.0; crate::robot::MAX_DOF];
         q[..7].copy_from_slice(&[0.3, -0.8, 0.2, 1.4, -0.3, 0.9, 0.1]);
-        for period in [None, Some(tau)] {
+        for roll in [RollMerge::Unwrapped, RollMerge::Periodic(tau)] {
             for psi in [-11.3, -0.7, 0.0, 2.9, 9.6] {
                 let c = Config { slice: 1, q, psi };
-                let mut g = Graph::new(2, 7, 0, (-3.05, 3.05), merge_q, period);
+                let mut g = Graph::new(2, 7, 0, (-3.05, 3.05), merge_q, roll);
                 let id = g.insert(Node {
                     c,
                     parent: u32::MAX,
@@ -505,7 +619,7 @@ mod tests {
                             psi: psi + turns * tau + off,
                             ..c
                         };
-                        let expect = period.map(|_| id);
+                        let expect = (roll != RollMerge::Unwrapped).then_some(id);
                         assert_eq!(g.find(&w), expect, "{psi} {turns} {off}");
                         let mut other = w;
                         other.q[6] += 1.5 * merge_q;
@@ -522,18 +636,36 @@ mod tests {
     }
 
     /// The bucketed lookup equals a linear scan of the slice's nodes (the merge rule of the
-    /// module docs), for configurations near stored ones, at bucket edges and at the ends of
-    /// the redundancy joint's range (values at and just past the limits), with a merge radius
-    /// finer than `MAX_BUCKETS` buckets can cover (wider buckets).
+    /// module docs: every joint within the radius, the roll within its radius, modulo the period
+    /// when there is one), for configurations near stored ones, at bucket edges and at the ends
+    /// of the redundancy joint's range (values at and just past the limits), with a merge radius
+    /// finer than `MAX_BUCKETS` buckets can cover (wider buckets); with roll moves at rolls of
+    /// several turns either way, on roll-cell edges and whole turns apart, before and after a
+    /// slice is split by roll (more than `SPLIT_AT` nodes), with the rig's roll cells and with
+    /// one, two or three of them (folded cells).
     #[test]
     fn find_equals_a_linear_scan() {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
-        for (merge_q, range) in [
-            (0.012, (-3.05, 3.05)),
-            (1e-4, (-3.05, 3.05)),
-            (0.3, (0.0, 1.0)),
+        let tau = std::f64::consts::TAU;
+        let rpsi = MERGE_FRACTION * ROLL_STEP;
+        for (merge_q, range, roll, cells) in [
+            (0.012, (-3.05, 3.05), RollMerge::Constant, None),
+            (1e-4, (-3.05, 3.05), RollMerge::Constant, None),
+            (0.3, (0.0, 1.0), RollMerge::Constant, None),
+            (0.05, (0.0, 1.0), RollMerge::Unwrapped, None),
+            (0.05, (0.0, 1.0), RollMerge::Periodic(tau), None),
+            (0.012, (-3.05, 3.05), RollMerge::Periodic(tau), None),
+            (0.05, (0.0, 1.0), RollMerge::Periodic(tau), Some(1)),
+            (0.05, (0.0, 1.0), RollMerge::Unwrapped, Some(2)),
+            (0.05, (0.0, 1.0), RollMerge::Periodic(tau), Some(3)),
         ] {
-            let mut g = Graph::new(4, 7, 0, range, merge_q, None);
+            let mut g = Graph::new(4, 7, 0, range, merge_q, roll);
+            if let Some(n) = cells {
+                g.psi_cells = n;
+                if let RollMerge::Periodic(p) = roll {
+                    g.psi_width = p / n as Real;
+                }
+            }
             let draw = |rng: &mut ChaCha8Rng| {
                 let mut q = [0.0; crate::robot::MAX_DOF];
                 // Joint 0 often on a bucket edge or a limit; the others in a small box so that
@@ -547,21 +679,35 @@ mod tests {
                 for v in q.iter_mut().skip(1) {
                     *v = rng.random_range(-0.05..0.05);
                 }
+                // The roll: on a cell edge, near whole turns, or anywhere in ±2 turns.
+                let psi = match (roll, rng.random_range(0..3)) {
+                    (RollMerge::Constant, _) => 0.37,
+                    (_, 0) => rpsi * rng.random_range(-800..800) as Real,
+                    (_, 1) => tau * rng.random_range(-2..=2) as Real + rng.random_range(-0.1..0.1),
+                    _ => rng.random_range(-2.0 * tau..2.0 * tau),
+                };
                 Config {
                     slice: rng.random_range(0..4),
                     q,
-                    psi: 0.0,
+                    psi,
                 }
             };
             let scan = |g: &Graph, c: &Config| {
                 g.nodes.iter().any(|n| {
-                    n.c.slice == c.slice && (0..7).all(|j| (n.c.q[j] - c.q[j]).abs() <= merge_q)
+                    let d = n.c.psi - c.psi;
+                    let dpsi = match roll {
+                        RollMerge::Periodic(p) => (d - p * (d / p).round()).abs(),
+                        _ => d.abs(),
+                    };
+                    n.c.slice == c.slice
+                        && (0..7).all(|j| (n.c.q[j] - c.q[j]).abs() <= merge_q)
+                        && dpsi <= rpsi
                 })
             };
             for _ in 0..3000 {
                 let c = draw(&mut rng);
                 let found = g.find(&c);
-                assert_eq!(found.is_some(), scan(&g, &c), "{c:?}");
+                assert_eq!(found.is_some(), scan(&g, &c), "{roll:?} {c:?}");
                 if let Some(id) = found {
                     let o = &g.nodes[id as usize].c;
                     assert_eq!(o.slice, c.slice);
@@ -573,15 +719,26 @@ mod tests {
                         via: Via::Start,
                     });
                 }
-                // A configuration just inside the merge radius of a stored one is found.
+                // A configuration just inside the merge radius of a stored one (a whole turn
+                // away with a period) is found.
                 let k = rng.random_range(0..g.nodes.len());
                 let mut near = g.nodes[k].c;
                 for v in near.q.iter_mut().take(7) {
                     *v += rng.random_range(-0.99..0.99) * merge_q;
                 }
-                assert_eq!(g.find(&near).is_some(), scan(&g, &near));
+                if roll != RollMerge::Constant {
+                    near.psi += rng.random_range(-0.99..0.99) * rpsi;
+                }
+                if let RollMerge::Periodic(p) = roll {
+                    near.psi += p * rng.random_range(-1..=1) as Real;
+                }
+                assert_eq!(g.find(&near).is_some(), scan(&g, &near), "{roll:?}");
                 assert!(g.find(&near).is_some());
             }
+            // With roll moves every slice ended split (the lookups above ran on both forms).
+            let split = g.heads.iter().filter(|r| r.len() > g.n_buckets).count();
+            let expect = if g.psi_cells > 1 { 4 } else { 0 };
+            assert_eq!(split, expect, "{roll:?} {cells:?} {:?}", g.counts);
         }
     }
 
@@ -634,7 +791,7 @@ mod tests {
         }
         let (mut blocked, mut free) = (0, 0);
         for &q in &targets {
-            let mut g = Graph::new(slices.len(), 7, 0, (-3.05, 3.05), 1e-9, None);
+            let mut g = Graph::new(slices.len(), 7, 0, (-3.05, 3.05), 1e-9, RollMerge::Constant);
             let node = |slice, q, parent, via| Node {
                 c: Config { slice, q, psi: 0.0 },
                 parent,

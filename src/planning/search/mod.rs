@@ -152,7 +152,7 @@ use crate::math::Real;
 use crate::planning::ladder::BlockCause;
 use crate::planning::planner::{Planner, RayPlan, ReachClass};
 use crate::planning::rig::{PlannerSettings, RollMode};
-use graph::{Direction, Graph, Node, Outcome, Rules, Via, MERGE_FRACTION, NODE_BYTES};
+use graph::{Direction, Graph, Node, Outcome, RollMerge, Rules, Via, MERGE_FRACTION, NODE_BYTES};
 use linking::{Config, Linker};
 use slices::Slices;
 
@@ -279,7 +279,7 @@ impl Planner {
                     self.red_joint,
                     self.red_range(),
                     fwd.merge_q(),
-                    self.roll_period(roll),
+                    self.roll_merge(roll),
                 );
                 for c in self.slice_configs(slices, linker, f + 1, roll, fwd)? {
                     if b.find(&c).is_none() {
@@ -330,12 +330,18 @@ impl Planner {
         }
     }
 
-    /// The period of the arm roll ψ in the graph's merge rule: 2π in roll `motor` when the
-    /// motor turns freely (range (−∞, ∞)), else none (module docs, "Resolution").
-    fn roll_period(&self, roll: RollMode) -> Option<Real> {
+    /// How the graph's merge rule meets the arm roll: no roll moves in roll `fixed`; in roll
+    /// `motor` modulo 2π when the motor turns freely (range (−∞, ∞)), else as it is (module
+    /// docs, "Resolution").
+    fn roll_merge(&self, roll: RollMode) -> RollMerge {
         let (lo, hi) = self.rig.motor.range;
-        (roll == RollMode::Motor && lo == Real::NEG_INFINITY && hi == Real::INFINITY)
-            .then_some(std::f64::consts::TAU)
+        match roll {
+            RollMode::Fixed => RollMerge::Constant,
+            RollMode::Motor if lo == Real::NEG_INFINITY && hi == Real::INFINITY => {
+                RollMerge::Periodic(std::f64::consts::TAU)
+            }
+            RollMode::Motor => RollMerge::Unwrapped,
+        }
     }
 
     /// The limits of the redundancy joint (the search graph's buckets).
@@ -496,7 +502,7 @@ impl Planner {
                 self.red_joint,
                 self.red_range(),
                 merge_q,
-                self.roll_period(roll),
+                self.roll_merge(roll),
             );
             // Probe chains first: the last start (the first expanded) and the first `PROBES` of
             // each start component (spread over it: farthest-point order).
