@@ -277,6 +277,70 @@ fn ik_track_follows_a_small_motion_to_the_nearby_solution() {
     }
 }
 
+/// `IkSolver::predict` (a track's first trial) is second-order close to where the track from
+/// the same configuration ends: for targets a joint step h away (h = 0.02, 0.01, 0.005 rad
+/// along random directions from random configurations inside the limits), the predictor's
+/// distance to the track's end shrinks about fourfold per halving of h (median ratio within
+/// 3.5–4.5, none below 2) and is less than the track's own move; on a target the configuration
+/// already reaches it returns the configuration.
+#[test]
+fn ik_predict_is_second_order_close_to_where_a_track_ends() {
+    use rand::Rng;
+    let m = RobotModel::load("sawyer", None).unwrap();
+    let solver = IkSolver::new(&m, IkParams::default().tracking()).unwrap();
+    let (lo, hi) = (m.lower(), m.upper());
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let dist = |a: &[Real], b: &[Real]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, Real::max)
+    };
+    let mut ratios = Vec::new();
+    while ratios.len() < 200 {
+        // Away from the limits by more than the largest step.
+        let mut q = m.random_config(&mut rng);
+        for j in 0..7 {
+            q[j] = q[j].clamp(lo[j] + 0.1, hi[j] - 0.1);
+        }
+        let dir: Vec<Real> = (0..7).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let here = IkTarget::pose(m.chain().tool_pose(&q[..7])).unwrap();
+        let p0 = solver.predict(&here, &q[..7]).unwrap();
+        assert!(dist(&p0[..7], &q[..7]) < 1e-9, "{q:?}");
+        let mut errs = Vec::new();
+        for h in [0.02, 0.01, 0.005] {
+            let mut qt = q;
+            for j in 0..7 {
+                qt[j] += h * dir[j];
+            }
+            let target = IkTarget::pose(m.chain().tool_pose(&qt[..7])).unwrap();
+            let Some(sol) = solver.track(&target, &q[..7], None) else {
+                break;
+            };
+            let p = solver.predict(&target, &q[..7]).unwrap();
+            let moved = dist(sol.joints(), &q[..7]);
+            let e = dist(&p[..7], sol.joints());
+            assert!(e < moved, "h {h}: predictor {e} off, track moved {moved}");
+            errs.push(e);
+        }
+        if errs.len() == 3 && errs[2] > 1e-12 {
+            ratios.push(errs[0] / errs[1]);
+            ratios.push(errs[1] / errs[2]);
+        }
+    }
+    ratios.sort_by(Real::total_cmp);
+    let median = ratios[ratios.len() / 2];
+    assert!(
+        ratios[0] >= 2.0,
+        "smallest error ratio per halving {}",
+        ratios[0]
+    );
+    assert!(
+        (3.5..4.5).contains(&median),
+        "median error ratio per halving {median}"
+    );
+}
+
 #[test]
 fn bad_input_gives_clear_errors() {
     let e = RobotModel::from_urdf_file("/nonexistent/robot.urdf", None).unwrap_err();

@@ -25,6 +25,13 @@
 //! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same
 //!   rod-end pose (the motor turns the other way, m = ω/c − ψ).
 //!
+//! A load or roll move whose predictor — the track's first trial ([`IkSolver::predict`], one
+//! Jacobian and one 6×6 solve; the track's end is second-order close to it) — lies on a known
+//! node is not tracked: that stretch is already sampled, as for a walk whose predictor does.
+//! In a 2-D roll `motor` piece nine roll steps in ten and most loads end on nodes made another
+//! way (a quarter less CPU on such rays); in roll `fixed` most nodes are made by back-off
+//! steps, which are tracked as they are.
+//!
 //! Every edge x → y needs: y converged to 1e-10 m / rad, every joint step ≤
 //! `planner.max_joint_step` (max-norm), y valid (limits, motor range, collisions), and the
 //! joint-linear segment collision-free (against the rod of the larger s). A rejected edge is
@@ -150,7 +157,8 @@ impl<'a> Linker<'a> {
     /// cause when the move has no target (first/last slice, a walk on a non-redundant arm), the
     /// track fails, the step exceeds the bound or the motor leaves its range. `Ok(None)` when
     /// the move does not exist (no cause to count).
-    /// A walk whose predictor already lies on a known node (`known`) is not corrected.
+    /// A walk, load or roll whose predictor already lies on a known node (`known`) is not
+    /// corrected (`Ok(None)`).
     pub fn propose(
         &mut self,
         x: &Config,
@@ -169,6 +177,20 @@ impl<'a> Linker<'a> {
         let target = self.slices.target(self.planner, slice, psi);
         if let Move::Walk(sign) = mv {
             return Ok(self.walk(&target, x, Real::from(sign), known));
+        }
+        if let Move::Roll(_) | Move::Load = mv {
+            // The predictor on a known node: that stretch is sampled (module docs).
+            let dof = self.planner.dof;
+            if let Some(p) = self.solver.predict(&target, &x.q[..dof]) {
+                let pred = Config {
+                    slice: slice as u32,
+                    q: p,
+                    psi,
+                };
+                if known(&pred) {
+                    return Ok(None);
+                }
+            }
         }
         let q = {
             let tracked = self.track(&target, &x.q);

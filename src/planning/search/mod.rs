@@ -138,8 +138,8 @@
 //! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.21 s, about 7 µs per node; the count
 //! goes as 1/`search_step`: 116,000 at 0.04), and those few rays dominate a sweep's CPU. In
 //! roll `motor` the pieces are 2-D per slice (self-motion × roll, a node per
-//! `search_step` × `ROLL_STEP`, thousands per slice; about 12 µs per node, the roll moves
-//! tracked too), and such rays exceed the default node bound (≈ 12 s at 1,000,000 nodes).
+//! `search_step` × `ROLL_STEP`, thousands per slice; about 9 µs per node), and such rays
+//! exceed the default node bound (≈ 9 s at 1,000,000 nodes).
 //! Figures: `docs/RESULTS.md`.
 
 pub(crate) mod graph;
