@@ -423,6 +423,44 @@ fn directions_renders_both_roll_modes_with_classes() {
     }
 }
 
+/// Undecided rays (the search hit its node bound) are their own category: listed in the legend
+/// with their share, not drawn as partial rays.
+#[test]
+fn directions_show_undecided_rays_as_their_own_category() {
+    let f = Fixture::new();
+    let quarter: Vec<[f64; 3]> = helixreach::directions::fibonacci(200, true)
+        .unwrap()
+        .iter()
+        .map(|d| [d.kappa, d.tau, d.omega])
+        .collect();
+    let mut csv = reach_csv(&quarter, &["motor"]);
+    // Every partial ray becomes undecided (no cause).
+    csv = csv
+        .lines()
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            if c.len() > 6 && c[5] == "partial" {
+                let mut c = c.clone();
+                c[5] = "undecided";
+                c[6] = "none";
+                c.join(",")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let n_undecided = csv.lines().filter(|l| l.contains(",undecided,")).count();
+    assert!(n_undecided > 5, "{n_undecided}");
+    std::fs::write(f.p("reach_undecided.csv"), csv).unwrap();
+    let share = format!("{:.1} %", 100.0 * n_undecided as f64 / quarter.len() as f64);
+    f.render_both(
+        "directions",
+        &["--input", "reach_undecided.csv"],
+        &["undecided (search bound)", &share],
+    );
+}
+
 #[test]
 fn section_renders_with_and_without_reach() {
     let f = Fixture::new();

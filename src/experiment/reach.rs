@@ -25,12 +25,17 @@ pub struct RollSummary {
     pub partial: usize,
     /// Blocked directions.
     pub blocked: usize,
+    /// Directions whose search hit its node bound (`planner.max_search_nodes`): neither proven
+    /// testable nor proven partial.
+    pub undecided: usize,
     /// `testable / directions`.
     pub fraction_testable: f64,
     /// `partial / directions`.
     pub fraction_partial: f64,
     /// `blocked / directions`.
     pub fraction_blocked: f64,
+    /// `undecided / directions`.
+    pub fraction_undecided: f64,
     /// Directions per blocking cause (partial and blocked rays).
     pub causes: BTreeMap<String, usize>,
     /// Azimuths tried per ray.
@@ -61,19 +66,22 @@ fn summary(rows: &[ReachRow], azimuths: &[f64], wall: f64) -> RollSummary {
         *causes.entry(cause.as_str().to_string()).or_default() += 1;
     }
     let n = rows.len() as f64;
-    let (t, p, b) = (
+    let (t, p, b, u) = (
         count(ReachClass::Testable),
         count(ReachClass::Partial),
         count(ReachClass::Blocked),
+        count(ReachClass::Undecided),
     );
     RollSummary {
         directions: rows.len(),
         testable: t,
         partial: p,
         blocked: b,
+        undecided: u,
         fraction_testable: t as f64 / n,
         fraction_partial: p as f64 / n,
         fraction_blocked: b as f64 / n,
+        fraction_undecided: u as f64 / n,
         causes,
         azimuths: azimuths.to_vec(),
         wall_seconds: wall,
@@ -145,10 +153,12 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
         log.say(
             "reachability",
             format!(
-                "roll {label}: {:.1} % testable, {:.1} % partial, {:.1} % blocked ({} directions, {wall:.1} s)",
+                "roll {label}: {:.1} % testable, {:.1} % partial, {:.1} % blocked, {:.1} % undecided \
+                 ({} directions, {wall:.1} s)",
                 100.0 * s.fraction_testable,
                 100.0 * s.fraction_partial,
                 100.0 * s.fraction_blocked,
+                100.0 * s.fraction_undecided,
                 s.directions
             ),
         );
@@ -170,4 +180,43 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
         rows,
         fan: fan_rows,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::planning::ladder::BlockCause;
+
+    /// Every direction is counted in exactly one class: the four counts sum to the directions
+    /// and the four fractions to 1, with rays of every class (undecided included) and causes
+    /// counted for the partial and blocked rays only.
+    #[test]
+    fn summary_counts_every_class() {
+        let dir = Direction::new(1.0, 0.0, 0.0).unwrap();
+        let row = |class, cause| ReachRow {
+            dir,
+            s_star: 8.0,
+            s_reached: 4.0,
+            class,
+            cause,
+            roll_mode: "motor".into(),
+        };
+        let mut rows = vec![row(ReachClass::Testable, None); 5];
+        rows.extend(vec![
+            row(ReachClass::Partial, Some(BlockCause::JointLimit));
+            3
+        ]);
+        rows.push(row(ReachClass::Blocked, Some(BlockCause::NoIk)));
+        rows.extend(vec![row(ReachClass::Undecided, None); 2]);
+        let s = summary(&rows, &[0.0], 1.0);
+        assert_eq!(
+            (s.testable, s.partial, s.blocked, s.undecided),
+            (5, 3, 1, 2)
+        );
+        assert_eq!(s.directions, 11);
+        let f =
+            s.fraction_testable + s.fraction_partial + s.fraction_blocked + s.fraction_undecided;
+        assert!((f - 1.0).abs() < 1e-15, "{f}");
+        assert_eq!(s.causes.values().sum::<usize>(), 4);
+    }
 }

@@ -12,8 +12,9 @@
 //!
 //! # Encoding
 //! Testable rays are filled green; partial rays are rings and blocked rays filled dots, both in
-//! the colour of the cause that stopped them (Okabe–Ito palette). Marked directions (the
-//! experiment's) are black crosses. The legend gives each category's share per roll mode.
+//! the colour of the cause that stopped them (Okabe–Ito palette); undecided rays (the search
+//! hit its node bound) are light grey dots outlined in black. Marked directions (the experiment's) are black
+//! crosses. The legend gives each category's share per roll mode.
 
 use super::records::{BlockCause, ReachClass, ReachRow};
 use super::style::{self, FAMILY};
@@ -107,6 +108,7 @@ enum Category {
     Testable,
     Partial(Option<BlockCause>),
     Blocked(Option<BlockCause>),
+    Undecided,
 }
 
 impl Category {
@@ -115,10 +117,14 @@ impl Category {
             ReachClass::Testable => Category::Testable,
             ReachClass::Partial => Category::Partial(r.cause),
             ReachClass::Blocked => Category::Blocked(r.cause),
-            // Drawn like a partial ray of unknown cause (grey): the search stopped at its bound.
-            ReachClass::Undecided => Category::Partial(None),
+            ReachClass::Undecided => Category::Undecided,
         }
     }
+}
+
+/// The fill of an undecided ray.
+fn undecided_color() -> RGBColor {
+    style::lighten(style::GREY, 0.55)
 }
 
 fn cause_color(c: Option<BlockCause>) -> RGBColor {
@@ -270,6 +276,10 @@ impl Figure for DirectionMap {
                     Category::Blocked(c) => {
                         root.draw(&Circle::new(p, rm_i, cause_color(c).filled()))?;
                     }
+                    Category::Undecided => {
+                        root.draw(&Circle::new(p, rm_i, undecided_color().filled()))?;
+                        root.draw(&Circle::new(p, rm_i, style::BLACK.stroke_width(1)))?;
+                    }
                     Category::Partial(c) => {
                         if ring {
                             let w = (rm / 3.0).round().max(1.0) as u32;
@@ -373,6 +383,12 @@ impl Figure for DirectionMap {
                 Marker::Dot(dark),
                 Box::new(|c| matches!(c, Category::Blocked(_))),
                 true,
+            ),
+            (
+                "undecided (search bound)".into(),
+                Marker::Dot(undecided_color()),
+                Box::new(|c| c == Category::Undecided),
+                false,
             ),
             (
                 "stopped by (partial + blocked):".into(),
