@@ -6,7 +6,9 @@ use helixreach::directions::Direction;
 use helixreach::math::Vec3;
 use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{Rig, RollMode};
-use helixreach::plot::render::input::{read_trajectory, select_frames, Phase, Row};
+use helixreach::plot::render::input::{
+    read_trajectory, select_frames, Phase, Row, MAX_STRIP_FRAMES,
+};
 use helixreach::plot::render::{
     render_gif, render_rgb, render_scene, render_trajectory, Arrangement, ClearanceKind,
     Configuration, FrameSelection, Layout, Part, RenderOptions, Scene, Snapshot, Solid,
@@ -436,6 +438,45 @@ fn default_frames_are_the_s_star_fractions_the_end_and_each_reconfiguration() {
         .to_string();
     assert!(e.contains("frames = 0"), "{e}");
     assert!(select_frames(&rows, FrameSelection::Even(33)).is_err());
+}
+
+/// A path with more reconfigurations than the strip has room for (a search path that backs off
+/// and reconfigures often) keeps every s* fraction and the end and shows an even subset of the
+/// reconfigurations, first and last included, each labelled with its rank.
+#[test]
+fn default_frames_subsample_many_reconfigurations() {
+    use Phase::*;
+    let n = 40;
+    let mut spec = vec![(0.0, Some(Load))];
+    for k in 0..n {
+        let s = 0.02 * (k + 1) as f64;
+        spec.push((s, Some(Load)));
+        spec.push((s, Some(Reconfigure)));
+    }
+    spec.push((1.0, Some(Load)));
+    spec.push((1.1, Some(Hold)));
+    let rows = rows_of(&spec);
+    let f = select_frames(&rows, FrameSelection::Default { s_star: Some(1.0) }).unwrap();
+    assert!(f.len() <= MAX_STRIP_FRAMES, "{}", f.len());
+    for name in ["s = 0", "s = ¼ s*", "s = ½ s*", "s = ¾ s*", "s = s*", "end"] {
+        assert!(f.iter().any(|c| c.label.contains(name)), "{name}: {f:?}");
+    }
+    // Reconfiguration k (1-based) is row 2k: every shown one is a reconfiguration row, labelled
+    // with its own rank; the first and the last are shown.
+    let shown: Vec<usize> = f
+        .iter()
+        .filter_map(|c| {
+            let rest = c.label.split("reconfigure ").nth(1)?;
+            let k: usize = rest.split(" of ").next()?.parse().ok()?;
+            assert!(rest.ends_with(&format!(" of {n}")), "{c:?}");
+            assert_eq!(c.row, 2 * k, "{c:?}");
+            Some(k)
+        })
+        .collect();
+    assert_eq!(shown.first(), Some(&1), "{f:?}");
+    assert_eq!(shown.last(), Some(&n), "{f:?}");
+    assert!(shown.windows(2).all(|w| w[0] < w[1]));
+    assert!(shown.len() >= MAX_STRIP_FRAMES - 6, "{}", shown.len());
 }
 
 #[test]

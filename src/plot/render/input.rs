@@ -22,7 +22,9 @@
 //! # Frames
 //! The default strip shows the first rows (in time order) where s reaches 0, ¼, ½, ¾ and 1 of s*,
 //! the last row, and the middle row of every reconfiguration (a run of `phase = reconfigure`
-//! rows, or, without the column, of rows at constant s whose joints move). s* is given, or the
+//! rows, or, without the column, of rows at constant s whose joints move). A path with more
+//! reconfigurations than the strip has room for ([`MAX_STRIP_FRAMES`] frames) shows an even
+//! subset of them, the first and the last included, each labelled `reconfigure k of N`. s* is given, or the
 //! continuum boundary along the trajectory's direction. `--frames N` instead takes N rows evenly
 //! spaced in time (in row order without `t`).
 
@@ -171,8 +173,8 @@ pub fn even_rows(rows: &[Row], n: usize) -> Vec<usize> {
     out
 }
 
-/// Choose the frames of a strip (see the module docs). Errors on `Even(0)`, on more than
-/// [`MAX_STRIP_FRAMES`] frames, and when s* cannot be found.
+/// Choose the frames of a strip (see the module docs): at most [`MAX_STRIP_FRAMES`]. Errors on
+/// `Even(0)` or more than [`MAX_STRIP_FRAMES`] even frames, and when s* cannot be found.
 pub fn select_frames(rows: &[Row], sel: FrameSelection) -> Result<Vec<FrameChoice>> {
     if rows.is_empty() {
         return Err(Error::invalid("trajectory", "0 rows", "nothing to render"));
@@ -213,6 +215,13 @@ pub fn select_frames(rows: &[Row], sel: FrameSelection) -> Result<Vec<FrameChoic
                     });
                 }
             }
+            out.push(FrameChoice {
+                row: rows.len() - 1,
+                label: "end".into(),
+            });
+            // The middle row of every reconfiguration; past the strip's room, an even subset
+            // (first and last kept), each labelled with its rank.
+            let mut middles = Vec::new();
             let mut i = 0;
             while i < rows.len() {
                 if reconfiguring(rows, i) {
@@ -220,17 +229,30 @@ pub fn select_frames(rows: &[Row], sel: FrameSelection) -> Result<Vec<FrameChoic
                     while i + 1 < rows.len() && reconfiguring(rows, i + 1) {
                         i += 1;
                     }
-                    out.push(FrameChoice {
-                        row: (start + i) / 2,
-                        label: "reconfigure".into(),
-                    });
+                    middles.push((start + i) / 2);
                 }
                 i += 1;
             }
-            out.push(FrameChoice {
-                row: rows.len() - 1,
-                label: "end".into(),
-            });
+            let room = MAX_STRIP_FRAMES - out.len();
+            let n = middles.len();
+            if n <= room {
+                out.extend(middles.into_iter().map(|row| FrameChoice {
+                    row,
+                    label: "reconfigure".into(),
+                }));
+            } else {
+                for j in 0..room {
+                    let k = if room == 1 {
+                        0
+                    } else {
+                        j * (n - 1) / (room - 1)
+                    };
+                    out.push(FrameChoice {
+                        row: middles[k],
+                        label: format!("reconfigure {} of {n}", k + 1),
+                    });
+                }
+            }
             out.sort_by_key(|f| f.row);
             // One frame per row: join the labels.
             let mut merged: Vec<FrameChoice> = Vec::new();
@@ -243,16 +265,6 @@ pub fn select_frames(rows: &[Row], sel: FrameSelection) -> Result<Vec<FrameChoic
                 }
             }
             out = merged;
-            if out.len() > MAX_STRIP_FRAMES {
-                return Err(Error::invalid(
-                    "frames",
-                    out.len(),
-                    format!(
-                        "the default selection (with every reconfiguration) exceeds \
-                         {MAX_STRIP_FRAMES} frames; choose --frames N"
-                    ),
-                ));
-            }
         }
     }
     Ok(out)
