@@ -117,8 +117,10 @@ fn fresh_rungs(
     n
 }
 
+/// The ladder on the seed rig (the subject of the per-ray figures and the search's peer).
 fn planner(waypoints: usize) -> Planner {
     let mut rig = Rig::load("sawyer-seed").unwrap();
+    rig.planner.search = SearchMethod::Ladder;
     rig.planner.waypoints = waypoints;
     Planner::new(rig).unwrap()
 }

@@ -13,7 +13,8 @@
 //! best kept, [`Planner::plan_best`]) instead of azimuth 0.
 //! `--full`: the whole sphere's Fibonacci lattice instead of the quarter-sphere; `--every k`:
 //! every k-th direction of the lattice; `--only k`: the k-th of those only; `--step`: the rig's `planner.search_step`;
-//! `--max-nodes`: its `planner.max_search_nodes` (a ray needing more is `undecided`).
+//! `--max-nodes`: its `planner.max_search_nodes` (a ray needing more is `undecided`); 1,000,000
+//! here unless given (the rig's default, 50,000, leaves large roll `motor` pieces undecided).
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode, SearchMethod};
@@ -57,12 +58,12 @@ fn main() -> helixreach::Result<()> {
     if let Some(v) = get("--step") {
         rig.planner.search_step = v.parse().expect("--step");
     }
-    if let Some(v) = get("--max-nodes") {
-        rig.planner.max_search_nodes = v.parse().expect("--max-nodes");
-    }
+    rig.planner.max_search_nodes =
+        get("--max-nodes").map_or(1_000_000, |v| v.parse().expect("--max-nodes"));
     let mut exact_rig = rig.clone();
     exact_rig.planner.search = SearchMethod::Exact;
     let exact = Planner::new(exact_rig)?;
+    rig.planner.search = SearchMethod::Ladder;
     let ladder = Planner::new(rig)?;
     // Start sets are shared by every ray (computed once per planner): warm them.
     let warm = &dirs[0];

@@ -8,7 +8,7 @@
 //! cargo run --release --example seed_reference -- [--directions 173] [--every 1] [--only k]
 //!     [--n-wp 384] [--grid 0.05] [--no-reference] [--csv out.csv]
 //! cargo run --release --example seed_reference -- --doubling [--every 8] [--n-wp 384]
-//! cargo run --release --example seed_reference -- --seed-runs [--step rad] [--csv out.csv]
+//! cargo run --release --example seed_reference -- --seed-runs [--step rad] [--max-nodes N] [--csv out.csv]
 //! ```
 //! Default: one CSV row per direction (`--csv`, else stdout), the counts on stderr; where the
 //! reference stops, it is run again at twice the waypoints (`ref2_*`).
@@ -61,7 +61,9 @@ fn cause(p: &RayPlan) -> String {
 fn planners(rig: &Rig) -> helixreach::Result<(Planner, Planner)> {
     let mut exact = rig.clone();
     exact.planner.search = SearchMethod::Exact;
-    Ok((Planner::new(exact)?, Planner::new(rig.clone())?))
+    let mut ladder = rig.clone();
+    ladder.planner.search = SearchMethod::Ladder;
+    Ok((Planner::new(exact)?, Planner::new(ladder)?))
 }
 
 struct Args(Vec<String>);
@@ -86,6 +88,7 @@ fn main() -> helixreach::Result<()> {
     let mut rig = Rig::load("sawyer-seed")?;
     rig.planner.margin = 0.0;
     rig.planner.search_step = args.get("--step", rig.planner.search_step);
+    rig.planner.max_search_nodes = args.get("--max-nodes", rig.planner.max_search_nodes);
     if args.has("--seed-runs") {
         return seed_runs(&args, &rig);
     }

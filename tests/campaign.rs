@@ -72,11 +72,15 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
     let dirs = directions_file(tmp.path(), &rows);
     let out = tmp.path().join("camp");
     let session_h = 0.25;
+    // Decided by the ladder: its paths of these three rays start from start configurations that
+    // need both kinds of move between runs (the search's need only unclamped moves).
     let o = helixreach(&[
         "--quiet",
         "campaign",
         "--rig",
         "sawyer-seed",
+        "--search",
+        "ladder",
         "--directions",
         dirs.to_str().unwrap(),
         "--session-hours",
@@ -216,6 +220,8 @@ fn a_campaign_on_the_seed_rig_passes_check_and_its_run_list_adds_up() {
     let args = [
         "--quiet",
         "campaign",
+        "--search",
+        "ladder",
         "--directions",
         dirs.to_str().unwrap(),
         "--session-hours",

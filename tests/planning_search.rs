@@ -32,6 +32,9 @@ fn coarse_rig(n: usize, step: Real) -> Rig {
     let mut rig = Rig::load("sawyer-seed").unwrap();
     let p = &mut rig.planner;
     p.search = SearchMethod::Exact;
+    // Large enough that the sampled rays are decided in both roll modes (the seed rig's
+    // default bound leaves some roll `motor` rays `undecided`).
+    p.max_search_nodes = 1_000_000;
     p.margin = 0.0;
     p.waypoints = n;
     p.max_joint_step = 0.3;
@@ -645,7 +648,7 @@ fn search_bounds_are_stated() {
     assert!(e.contains("planner.search_step"), "{e}");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
     let text = std::fs::read_to_string(dir.join("sawyer-seed.toml")).unwrap();
-    let bad = text.replacen("search = \"ladder\"", "search = \"exhaustive\"", 1);
+    let bad = text.replacen("search = \"exact\"", "search = \"exhaustive\"", 1);
     let e = Rig::from_toml_str(&bad, "t.toml", &dir)
         .map(|_| ())
         .unwrap_err()
@@ -654,12 +657,12 @@ fn search_bounds_are_stated() {
         e.contains("planner.search") && e.contains("exhaustive"),
         "{e}"
     );
-    let good = text.replacen("search = \"ladder\"", "search = \"exact\"", 1);
+    let good = text.replacen("search = \"exact\"", "search = \"ladder\"", 1);
     let rig = Rig::from_toml_str(&good, "t.toml", &dir).unwrap();
-    assert_eq!(rig.planner.search, SearchMethod::Exact);
+    assert_eq!(rig.planner.search, SearchMethod::Ladder);
     // Written back and read again, the setting survives.
     let again = Rig::from_toml_str(&rig.to_toml().unwrap(), "t2.toml", &dir).unwrap();
-    assert_eq!(again.planner.search, SearchMethod::Exact);
+    assert_eq!(again.planner.search, SearchMethod::Ladder);
 }
 
 /// A freely turning motor (range (−∞, ∞), the seed rig's) makes the roll a circle: the search

@@ -48,12 +48,24 @@ fn interval_end(rig: &Rig, d: &Direction, plan: &RayPlan) -> Real {
 }
 
 /// A planner per distinct clamp position (key: whole micrometres), deciding rays by `search`.
+/// The seed rig decided by the ladder (the tests of its gates, start levels and reconfiguration
+/// walks).
+fn ladder_rig() -> Rig {
+    let mut rig = Rig::load("sawyer-seed").unwrap();
+    rig.planner.search = SearchMethod::Ladder;
+    rig
+}
+
 fn planners_by_clamp(
     runs: &[SeedRun],
     margin: Real,
     search: SearchMethod,
+    max_search_nodes: Option<usize>,
 ) -> BTreeMap<[i64; 3], Planner> {
-    let rig = Rig::load("sawyer-seed").unwrap();
+    let mut rig = Rig::load("sawyer-seed").unwrap();
+    if let Some(n) = max_search_nodes {
+        rig.planner.max_search_nodes = n;
+    }
     let mut keys: Vec<[i64; 3]> = runs.iter().map(|r| key(r.clamp)).collect();
     keys.sort();
     keys.dedup();
@@ -99,7 +111,7 @@ fn witness(planner: &Planner, r: &SeedRun) -> Witness {
 /// our target; each miss is printed with the witness's extent and end.
 fn seed_runs_at_own_clamps(runs: &[SeedRun], search: SearchMethod) -> (Vec<bool>, Vec<String>) {
     const S_SLACK: Real = 0.02;
-    let planners = planners_by_clamp(runs, 0.0, search);
+    let planners = planners_by_clamp(runs, 0.0, search, None);
     let plans: Vec<_> = runs
         .par_iter()
         .map(|r| {
@@ -199,6 +211,8 @@ fn seed_directions_are_testable_with_their_own_clamps() {
 /// components at s = 1.34), and in roll `motor` — the seed rig's motor turns freely — it finds a
 /// path to s*. That search compares the roll modulo a whole turn; with the roll unwrapped it
 /// would flood a copy of the piece per winding and end `undecided` at the 1,000,000-node bound.
+/// The motor search needs that bound here (the seed rig's default, 50,000, leaves the run
+/// `undecided`, never partial).
 #[test]
 fn a_seed_run_is_testable_by_the_motor_roll() {
     let runs = seed_runs();
@@ -206,7 +220,12 @@ fn a_seed_run_is_testable_by_the_motor_roll() {
         .iter()
         .find(|r| r.file == "c1_0.35_c2_0.txt")
         .expect("the seed run");
-    let planners = planners_by_clamp(std::slice::from_ref(r), 0.0, SearchMethod::Exact);
+    let planners = planners_by_clamp(
+        std::slice::from_ref(r),
+        0.0,
+        SearchMethod::Exact,
+        Some(1_000_000),
+    );
     let p = &planners[&key(r.clamp)];
     let s = s_star(&r.dir);
     let fixed = p.plan_ray(&r.dir, s, 0.0, RollMode::Fixed, false).unwrap();
@@ -214,6 +233,11 @@ fn a_seed_run_is_testable_by_the_motor_roll() {
     assert!(fixed.s_reached < 0.8 * s, "{fixed:?}");
     let motor = p.plan_ray(&r.dir, s, 0.0, RollMode::Motor, true).unwrap();
     assert_eq!(motor.class, ReachClass::Testable, "{motor:?}");
+    let default = planners_by_clamp(std::slice::from_ref(r), 0.0, SearchMethod::Exact, None);
+    let cut = default[&key(r.clamp)]
+        .plan_ray(&r.dir, s, 0.0, RollMode::Motor, false)
+        .unwrap();
+    assert_ne!(cut.class, ReachClass::Partial, "{cut:?}");
     let path = motor.path.as_ref().expect("a path");
     assert_eq!(path[0].waypoint.s, 0.0);
     assert!((path.last().unwrap().waypoint.s - s).abs() <= 1e-9 * s);
@@ -275,7 +299,7 @@ fn more_start_samples_never_reach_less() {
 /// reaches at most one waypoint interval less than the levels (module docs, "Pointwise gate").
 #[test]
 fn pointwise_gate_keeps_the_class() {
-    let rig = Rig::load("sawyer-seed").unwrap();
+    let rig = ladder_rig();
     let gated = Planner::new(rig.clone()).unwrap();
     let mut ungated = Planner::new(rig.clone()).unwrap();
     ungated.set_level_gate(false);
@@ -324,7 +348,7 @@ fn pointwise_gate_keeps_the_class() {
 /// plan is gated, reaches less by under one regular waypoint interval, and is far cheaper.
 #[test]
 fn motor_gate_keeps_the_class() {
-    let rig = Rig::load("sawyer-seed").unwrap();
+    let rig = ladder_rig();
     let gated = Planner::new(rig.clone()).unwrap();
     let mut ungated = Planner::new(rig.clone()).unwrap();
     ungated.set_level_gate(false);
@@ -383,7 +407,7 @@ fn motor_gate_keeps_the_class() {
 /// 47 s now, `--threads 1`, same load).
 #[test]
 fn motor_start_components_are_joined_and_keep_the_motor_only_rays() {
-    let rig = Rig::load("sawyer-seed").unwrap();
+    let rig = ladder_rig();
     let planner = Planner::new(rig.clone()).unwrap();
     let groups = planner.start_components(RollMode::Motor);
     let n: usize = groups.iter().map(|g| g.len()).sum();
@@ -546,7 +570,7 @@ fn answers_are_monotone_per_direction() {
 /// difference is under one regular waypoint interval (the gate's documented bound).
 #[test]
 fn reconfiguration_reaches_less_only_by_the_gates_bound() {
-    let rig = Rig::load("sawyer-seed").unwrap();
+    let rig = ladder_rig();
     let lattice = helixreach::directions::fibonacci(2000, true).unwrap();
     let planners: Vec<(bool, bool, Planner)> =
         [(true, true), (true, false), (false, true), (false, false)]
@@ -612,7 +636,7 @@ const REFERENCE_WAYPOINTS: usize = 384;
 #[test]
 fn search_finds_every_ray_the_dense_reference_finds() {
     let rig = Rig::load("sawyer-seed").unwrap();
-    let ladder = Planner::new(rig.clone()).unwrap();
+    let ladder = Planner::new(ladder_rig()).unwrap();
     let mut exact = rig;
     exact.planner.search = SearchMethod::Exact;
     let exact = Planner::new(exact).unwrap();

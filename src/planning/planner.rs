@@ -1,6 +1,10 @@
 //! The Descartes-style planner of one ray: pose path → rungs of IK solutions → ladder DP →
 //! joint + motor path ([architecture §5](crate::architecture)).
 //!
+//! [`Planner::plan_ray`] decides a ray by the rig's `planner.search`: `exact` (the default) hands
+//! it to the search of the valid set ([`crate::planning::search`]: a path or a certificate);
+//! `ladder` runs the stages below (a path when one is found, no certificate of a stop).
+//!
 //! # Rungs
 //! - **Start** (s = 0, the straight rod — the same pose for every ray and azimuth): a diverse set
 //!   of fresh IK solutions, [`IkSolver::solve_all`] with the redundancy joint locked at

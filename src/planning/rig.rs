@@ -91,9 +91,9 @@ impl std::fmt::Display for RollMode {
 pub enum SearchMethod {
     /// The ladder planner with start levels, gates and reconfiguration walks
     /// ([`crate::planning::planner`]).
-    #[default]
     Ladder,
     /// The search of the valid set with a path or a certificate ([`crate::planning::search`]).
+    #[default]
     Exact,
 }
 
@@ -331,12 +331,17 @@ pub struct PlannerSettings {
     pub self_motion_step: Real,
     /// Time the rod is held at the end of loading before unloading (s).
     pub hold_time: Real,
-    /// How a ray is decided: `ladder` (default) or `exact` ([`crate::planning::search`]).
+    /// How a ray is decided: `exact` (default: [`crate::planning::search`], a path or a
+    /// certificate) or `ladder` ([`crate::planning::planner`]'s tracked branches, start levels
+    /// and gates).
     pub search: SearchMethod,
     /// Allow driving back along the ray below s* to reconfigure (the search only; phase
     /// `backoff`).
     pub allow_backoff: bool,
     /// Most nodes of one ray's search (≈ 112 bytes each); a ray needing more is `undecided`.
+    /// Default 50,000 (≈ 5.6 MB, about 0.4 s CPU per ray at the bound): roll `fixed` rays of the
+    /// seed rig need at most about 31,000 at the default `search_step`; large roll `motor`
+    /// pieces need more (`docs/RESULTS.md`), and a study that must decide them raises it.
     pub max_search_nodes: usize,
     /// The search only: most halvings of a slice interval where no single step joins two
     /// slices (a bridge through intermediate poses, like the ladder's refinement; 0: fixed
@@ -418,9 +423,9 @@ impl Default for PlannerSettings {
             allow_reconfiguration: true,
             self_motion_step: 0.02,
             hold_time: 2.0,
-            search: SearchMethod::Ladder,
+            search: SearchMethod::Exact,
             allow_backoff: true,
-            max_search_nodes: 1_000_000,
+            max_search_nodes: 50_000,
             bridge_halvings: 4,
             search_step: 0.16,
         }
