@@ -3,10 +3,10 @@
 //! the CSVs beside it and equal the golden run, and that every figure it lists exists and is a
 //! non-trivial image. A failing stage or an invalid rig makes the demo exit non-zero.
 //!
-//! **Golden run.** `tests/data/demo_quick_golden.json` holds the stage numbers of a quick run
-//! produced by the demo *before* it moved into the library (`experiment`), minus the timings.
-//! The move must not change a number. When upstream numerics or the planner change the results
-//! on purpose, regenerate it deliberately and say so in the commit:
+//! **Golden run.** `tests/data/demo_quick_golden.json` holds the stage numbers of a quick run,
+//! minus the timings: a refactoring must not change a number. When upstream numerics or the
+//! planner change the results on purpose (the default decision of a ray, a resolution),
+//! regenerate it deliberately and say so in the commit:
 //! `HELIXREACH_BLESS_GOLDEN=1 cargo test --release --features interop --test demo`.
 
 use serde_json::Value;
