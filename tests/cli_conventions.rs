@@ -488,3 +488,61 @@ fn a_boundary_on_other_directions_is_refused_everywhere() {
     a.extend(["--boundary", "b41.csv"]);
     ok(d, &a);
 }
+
+/// `reach` states its class counts, and rays left `undecided` by the search's node bound are a
+/// warning (printed under `--quiet` too) naming the setting and its value; the counts are those
+/// of the CSV it wrote.
+#[test]
+fn reach_states_its_classes_and_warns_of_undecided_rays() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let rigs = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+    let text = std::fs::read_to_string(rigs.join("sawyer-seed.toml")).unwrap();
+    assert!(text.contains("max_search_nodes = 50000"));
+    let small = text.replacen("max_search_nodes = 50000", "max_search_nodes = 2000", 1);
+    std::fs::write(d.join("small.toml"), small).unwrap();
+    for quiet in [false, true] {
+        let mut args = vec![
+            "reach",
+            "--rig",
+            "small.toml",
+            "--fibonacci",
+            "12",
+            "--quarter",
+            "--roll",
+            "motor",
+            "--force",
+            "--out",
+            "r.csv",
+        ];
+        if quiet {
+            args.insert(0, "--quiet");
+        }
+        let out = ok(d, &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        let csv = std::fs::read_to_string(d.join("r.csv")).unwrap();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let ic = header.iter().position(|h| *h == "class").unwrap();
+        let count = |c: &str| {
+            csv.lines()
+                .skip(1)
+                .filter(|l| l.split(',').nth(ic) == Some(c))
+                .count()
+        };
+        let undecided = count("undecided");
+        assert!(undecided > 0, "{csv}");
+        let warning = format!(
+            "warning: reach: {undecided} rays undecided: their search hit \
+             planner.max_search_nodes = 2000"
+        );
+        assert!(err.contains(&warning), "{err}");
+        let counts = format!(
+            "reach: {} testable, {} partial, {} blocked, {undecided} undecided",
+            count("testable"),
+            count("partial"),
+            count("blocked")
+        );
+        assert_eq!(err.contains(&counts), !quiet, "{err}");
+    }
+}

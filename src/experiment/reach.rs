@@ -59,6 +59,14 @@ pub struct ReachSurvey {
     pub fan: Vec<ReachRow>,
 }
 
+impl RollSummary {
+    /// The class and cause counts of `rows` (one roll mode), tried at `azimuths`, swept in
+    /// `wall` seconds.
+    pub fn of(rows: &[ReachRow], azimuths: &[f64], wall: f64) -> RollSummary {
+        summary(rows, azimuths, wall)
+    }
+}
+
 fn summary(rows: &[ReachRow], azimuths: &[f64], wall: f64) -> RollSummary {
     let count = |c: ReachClass| rows.iter().filter(|r| r.class == c).count();
     let mut causes: BTreeMap<String, usize> = BTreeMap::new();

@@ -2,6 +2,7 @@
 //! (see `helixreach::sweep::reach`).
 
 use super::args::{checkpoint_interval, DirectionArgs, RigOverrideArgs};
+use helixreach::experiment::RollSummary;
 use helixreach::planning::planner::Planner;
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode};
 use helixreach::sweep::driver::{Shard, SweepOptions};
@@ -103,5 +104,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         t0.elapsed().as_secs_f64(),
         args.out.display()
     );
+    // The class counts, read back from a regular output file (not from stdout, a FIFO or a
+    // device).
+    if std::fs::metadata(&args.out).is_ok_and(|m| m.is_file()) {
+        let rows = helixreach::records::read_reach(&args.out)?;
+        let c = RollSummary::of(&rows, &opts.azimuths, 0.0);
+        status!(
+            "reach: {} testable, {} partial, {} blocked, {} undecided",
+            c.testable,
+            c.partial,
+            c.blocked,
+            c.undecided
+        );
+        if c.undecided > 0 {
+            eprintln!(
+                "warning: reach: {} rays undecided: their search hit planner.max_search_nodes = {} before \
+                 finding a path or exhausting its piece (class `undecided`, s_reached the farthest \
+                 s found); a rig with a larger bound decides more of them (about 112 bytes and \
+                 10 µs per node)",
+                c.undecided,
+                planner.rig().planner.max_search_nodes
+            );
+        }
+    }
     Ok(())
 }
