@@ -63,36 +63,32 @@ impl RollSummary {
     /// The class and cause counts of `rows` (one roll mode), tried at `azimuths`, swept in
     /// `wall` seconds.
     pub fn of(rows: &[ReachRow], azimuths: &[f64], wall: f64) -> RollSummary {
-        summary(rows, azimuths, wall)
-    }
-}
-
-fn summary(rows: &[ReachRow], azimuths: &[f64], wall: f64) -> RollSummary {
-    let count = |c: ReachClass| rows.iter().filter(|r| r.class == c).count();
-    let mut causes: BTreeMap<String, usize> = BTreeMap::new();
-    for cause in rows.iter().filter_map(|r| r.cause) {
-        *causes.entry(cause.as_str().to_string()).or_default() += 1;
-    }
-    let n = rows.len() as f64;
-    let (t, p, b, u) = (
-        count(ReachClass::Testable),
-        count(ReachClass::Partial),
-        count(ReachClass::Blocked),
-        count(ReachClass::Undecided),
-    );
-    RollSummary {
-        directions: rows.len(),
-        testable: t,
-        partial: p,
-        blocked: b,
-        undecided: u,
-        fraction_testable: t as f64 / n,
-        fraction_partial: p as f64 / n,
-        fraction_blocked: b as f64 / n,
-        fraction_undecided: u as f64 / n,
-        causes,
-        azimuths: azimuths.to_vec(),
-        wall_seconds: wall,
+        let count = |c: ReachClass| rows.iter().filter(|r| r.class == c).count();
+        let mut causes: BTreeMap<String, usize> = BTreeMap::new();
+        for cause in rows.iter().filter_map(|r| r.cause) {
+            *causes.entry(cause.as_str().to_string()).or_default() += 1;
+        }
+        let n = rows.len() as f64;
+        let (t, p, b, u) = (
+            count(ReachClass::Testable),
+            count(ReachClass::Partial),
+            count(ReachClass::Blocked),
+            count(ReachClass::Undecided),
+        );
+        RollSummary {
+            directions: rows.len(),
+            testable: t,
+            partial: p,
+            blocked: b,
+            undecided: u,
+            fraction_testable: t as f64 / n,
+            fraction_partial: p as f64 / n,
+            fraction_blocked: b as f64 / n,
+            fraction_undecided: u as f64 / n,
+            causes,
+            azimuths: azimuths.to_vec(),
+            wall_seconds: wall,
+        }
     }
 }
 
@@ -157,7 +153,7 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
             resume,
             log,
         )?;
-        let s = summary(&r, &opts.azimuths, wall);
+        let s = RollSummary::of(&r, &opts.azimuths, wall);
         log.say(
             "reachability",
             format!(
@@ -216,7 +212,7 @@ mod tests {
         ]);
         rows.push(row(ReachClass::Blocked, Some(BlockCause::NoIk)));
         rows.extend(vec![row(ReachClass::Undecided, None); 2]);
-        let s = summary(&rows, &[0.0], 1.0);
+        let s = RollSummary::of(&rows, &[0.0], 1.0);
         assert_eq!(
             (s.testable, s.partial, s.blocked, s.undecided),
             (5, 3, 1, 2)

@@ -120,8 +120,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             eprintln!(
                 "warning: reach: {} rays undecided: their search hit planner.max_search_nodes = {} before \
                  finding a path or exhausting its piece (class `undecided`, s_reached the farthest \
-                 s found); a rig with a larger bound decides more of them (about 112 bytes and \
-                 10 µs per node)",
+                 s found); a rig with a larger bound decides more of them",
                 c.undecided,
                 planner.rig().planner.max_search_nodes
             );
