@@ -1242,7 +1242,7 @@ fn rig_with_few_waypoints() -> helixreach::planning::rig::Rig {
 /// With `max_waypoints = 10` the pose path ends early and no ray may be called testable.
 #[test]
 fn a_ray_cut_by_the_waypoint_limit_is_never_testable() {
-    use helixreach::planning::ladder::BlockCause;
+    use helixreach::planning::cause::BlockCause;
     use helixreach::planning::planner::{Planner, ReachClass};
     let planner = Planner::new(rig_with_few_waypoints()).unwrap();
     let margin = planner.rig().planner.margin;

@@ -713,7 +713,7 @@ fn a_free_motor_is_searched_modulo_whole_turns() {
 /// `waypoint_limit`.
 #[test]
 fn search_never_calls_a_cut_ray_testable() {
-    use helixreach::planning::ladder::BlockCause;
+    use helixreach::planning::cause::BlockCause;
     let mut rig = Rig::load("sawyer-seed").unwrap();
     rig.planner.search = SearchMethod::Exact;
     rig.planner.max_waypoints = 10;

@@ -189,7 +189,7 @@ pub fn reach_survey(st: &Settings, out: &Path, resume: bool, log: &Log) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::planning::ladder::BlockCause;
+    use crate::planning::cause::BlockCause;
 
     /// Every direction is counted in exactly one class: the four counts sum to the directions
     /// and the four fractions to 1, with rays of every class (undecided included) and causes

@@ -1,13 +1,14 @@
-//! Rig files, pose paths, ladder graph, trajectories ([architecture §4–5](crate::architecture)).
+//! Rig files, pose paths, the decision of a ray, trajectories ([architecture §4–5](crate::architecture)).
 //!
 //! | module | holds |
 //! |---|---|
 //! | [`rig`] | the rig TOML schema, its validation, embedded rigs |
 //! | [`rig_init`] | a first commented rig for any URDF arm, the clamp placed where it holds the rod |
 //! | [`pose_path`] | a ray (S̄, α) as rod-end poses in the base frame, adaptive in s |
-//! | [`ladder`] | the layered graph of IK solutions and its forward dynamic programming |
-//! | [`planner`] | rungs of IK solutions (track mode), pruning, edges, reconfiguration, the plan of one ray |
-//! | [`search`] | the decision of one ray by a search of its valid set: a path or a certificate |
+//! | [`planner`] | the planner of one ray: robot, collision model, start set, validity; the decision by `planner.search` |
+//! | [`search`] | the decision of one ray by a search of its valid set: a path or a certificate (the default) |
+//! | [`ladder`] | the decision by rungs of tracked IK solutions and dynamic programming (`--search ladder`, the peer) |
+//! | [`cause`] | why a ray stops: the blocking causes and their counts |
 //! | [`self_motion`] | walking the self-motion manifold of a held pose; resampling within 1e-6 m / rad |
 //! | [`trajectory`] | time parametrization and the CSV / JSON writers |
 //! | [`campaign`] | a test campaign: every testable ray of a set, ordered, the moves between runs, sessions |
@@ -30,6 +31,7 @@
 //! ```
 
 pub mod campaign;
+pub mod cause;
 pub mod check;
 pub mod ladder;
 pub mod planner;

@@ -89,8 +89,8 @@ impl std::fmt::Display for RollMode {
 /// How a ray is decided (`planner.search`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SearchMethod {
-    /// The ladder planner with start levels, gates and reconfiguration walks
-    /// ([`crate::planning::planner`]).
+    /// The ladder: tracked branches, start levels, gates and reconfiguration walks
+    /// ([`crate::planning::ladder`]).
     Ladder,
     /// The search of the valid set with a path or a certificate ([`crate::planning::search`]).
     #[default]
@@ -292,7 +292,7 @@ pub struct PlannerSettings {
     /// Densest start sampling, in nodes per connected valid start component: a ray the base
     /// rungs do not make testable is planned again from nested, denser samplings of the whole
     /// valid self-motion set of the straight rod (2R, 4R, … ≤ this, R = `redundancy_samples`;
-    /// [`crate::planning::planner`] "Dense levels"). 0 or ≤ R: no dense levels. Doubling it
+    /// [`crate::planning::ladder`], "Dense levels"). 0 or ≤ R: no dense levels. Doubling it
     /// never reaches less.
     pub dense_samples: usize,
     /// Joint-space interpolation step for segment collision checks (rad).
@@ -332,7 +332,7 @@ pub struct PlannerSettings {
     /// Time the rod is held at the end of loading before unloading (s).
     pub hold_time: Real,
     /// How a ray is decided: `exact` (default: [`crate::planning::search`], a path or a
-    /// certificate) or `ladder` ([`crate::planning::planner`]'s tracked branches, start levels
+    /// certificate) or `ladder` ([`crate::planning::ladder`]: tracked branches, start levels
     /// and gates).
     pub search: SearchMethod,
     /// Allow driving back along the ray below s* to reconfigure (the search only; phase

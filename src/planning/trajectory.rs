@@ -62,7 +62,7 @@
 
 use crate::error::{Error, Result};
 use crate::math::{rotation_angle, Iso3, Real};
-use crate::planning::ladder::BlockCause;
+use crate::planning::cause::BlockCause;
 use crate::planning::planner::{PlannedPoint, Planner, RayPlan, ReachClass};
 
 /// The phase of a trajectory sample (see the module docs).

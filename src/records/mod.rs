@@ -123,7 +123,7 @@ pub fn dir_key(d: &Direction) -> Vec<String> {
     vec![fmt_real(d.kappa), fmt_real(d.tau), fmt_real(d.omega)]
 }
 
-pub use crate::planning::ladder::BlockCause;
+pub use crate::planning::cause::BlockCause;
 pub use crate::planning::planner::ReachClass;
 
 /// Parse a record enum ([`ReachClass`], [`BlockCause`]) from its CSV spelling, by serde.

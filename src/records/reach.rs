@@ -22,7 +22,7 @@ pub struct ReachRecord {
     pub s_reached: Real,
     /// `testable`, `partial`, `blocked` or `undecided` ([`crate::planning::planner::ReachClass`]).
     pub class: &'static str,
-    /// Blocking cause ([`crate::planning::ladder::BlockCause`]); empty for testable rays.
+    /// Blocking cause ([`crate::planning::cause::BlockCause`]); empty for testable rays.
     pub cause: &'static str,
     /// Azimuth of the plan (rad).
     #[serde(serialize_with = "csv_out::real")]

@@ -1053,7 +1053,7 @@ mod tests {
     fn sidecar_outcome_and_phase_runs() {
         let mut tr = traj();
         tr.outcome.class = crate::planning::planner::ReachClass::Partial;
-        tr.outcome.cause = Some(crate::planning::ladder::BlockCause::NoIk);
+        tr.outcome.cause = Some(crate::planning::cause::BlockCause::NoIk);
         tr.outcome.s_reached = 2.5;
         tr.points[2].phase = Phase::Reconfigure;
         let v: serde_json::Value =

@@ -58,7 +58,7 @@
 use crate::directions::Direction;
 use crate::error::Result;
 use crate::math::Real;
-use crate::planning::ladder::BlockCause;
+use crate::planning::cause::BlockCause;
 use crate::planning::planner::{Planner, RayPlan};
 use crate::planning::rig::RollMode;
 use crate::planning::trajectory::{time_parametrize, Phase, TimingLimits, TrajectoryPoint};

@@ -1,6 +1,6 @@
 //! The start set of a roll mode: valid configurations of the straight rod's end pose, grouped by
 //! connected valid self-motion component (what the planner's module docs call the start
-//! components, [`crate::planning::planner`], "Rungs" and "Dense levels").
+//! components, [`crate::planning::ladder`], "Rungs" and "Dense levels").
 //!
 //! # Components
 //! - **Roll `fixed`** (1-D self-motion, the full tool pose held): two valid IK solutions share a
@@ -33,7 +33,7 @@
 
 use super::{node, Node, Planner, Scratch, StartSet};
 use crate::math::{Iso3, Real, Vec3};
-use crate::planning::ladder::{BlockCause, CauseCounts};
+use crate::planning::cause::{BlockCause, CauseCounts};
 use crate::planning::pose_path::Waypoint;
 use crate::planning::rig::RollMode;
 use crate::planning::self_motion::{self, Held};

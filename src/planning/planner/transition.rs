@@ -20,7 +20,7 @@
 use super::{node, Planner, MAX_WALK_SAMPLES};
 use crate::error::{Error, Result};
 use crate::math::Real;
-use crate::planning::ladder::BlockCause;
+use crate::planning::cause::BlockCause;
 use crate::planning::self_motion::{self, Held, Q};
 use crate::robot::IkSolver;
 

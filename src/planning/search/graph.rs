@@ -60,7 +60,7 @@
 
 use super::linking::{Config, Linker, Move, Proposal, ROLL_STEP};
 use crate::math::Real;
-use crate::planning::ladder::CauseCounts;
+use crate::planning::cause::CauseCounts;
 use crate::planning::pose_path::Waypoint;
 use crate::planning::self_motion::Q;
 use std::collections::BinaryHeap;

@@ -40,7 +40,7 @@
 
 use super::slices::{check_rod, segment_rod, tip_of, Slices};
 use crate::math::{Real, Vec3};
-use crate::planning::ladder::BlockCause;
+use crate::planning::cause::BlockCause;
 use crate::planning::planner::Planner;
 use crate::planning::pose_path::Waypoint;
 use crate::planning::self_motion::{null_direction, Q};

@@ -152,7 +152,7 @@ pub(crate) mod slices;
 use crate::directions::Direction as RayDirection;
 use crate::error::{Error, Result};
 use crate::math::Real;
-use crate::planning::ladder::BlockCause;
+use crate::planning::cause::BlockCause;
 use crate::planning::planner::{Planner, RayPlan, ReachClass};
 use crate::planning::rig::{PlannerSettings, RollMode};
 use graph::{Direction, Graph, Node, Outcome, RollMerge, Rules, Via, MERGE_FRACTION, NODE_BYTES};
@@ -226,15 +226,6 @@ pub fn check_resolution(p: &PlannerSettings, source: &str) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-fn rank(c: ReachClass) -> u8 {
-    match c {
-        ReachClass::Testable => 3,
-        ReachClass::Undecided => 2,
-        ReachClass::Partial => 1,
-        ReachClass::Blocked => 0,
-    }
 }
 
 impl Planner {
@@ -434,7 +425,7 @@ impl Planner {
             return Ok(fixed);
         }
         let native = self.decide_in(dir, s_star, azimuth, RollMode::Motor, want_path)?;
-        let better = (rank(native.class), native.s_reached) > (rank(fixed.class), fixed.s_reached);
+        let better = (native.class.rank(), native.s_reached) > (fixed.class.rank(), fixed.s_reached);
         Ok(if !better {
             fixed
         } else if native.class == ReachClass::Undecided && fixed.s_reached > native.s_reached {

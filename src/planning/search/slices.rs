@@ -4,7 +4,7 @@
 //! A configuration of slice i is a joint vector q and, in roll `motor`, the arm's roll ψ about
 //! the rod tangent relative to the transported frame. It holds the slice's rod-end pose when
 //! the tip pose of q is `T_i·Rz(−ψ)·tool⁻¹` (ψ = 0 in roll `fixed`); the motor then turns the rod
-//! by `m = ω_i/c − ψ` ([`crate::planning::planner`] "Rungs": the same convention). It is
+//! by `m = ω_i/c − ψ` ([`crate::planning::planner`], "Shared by both decisions": the same convention). It is
 //! **valid** when q lies in the joint limits (IK iterates stay in the box), m in the motor range,
 //! and q is free of self, scene and rod collision, the rod being the helix of slice i as
 //! `planner.rod_capsules` capsules of radius r + `rod_clearance`, without the last
@@ -18,7 +18,7 @@
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::{rot_z, tol, Real, Vec3};
-use crate::planning::ladder::BlockCause;
+use crate::planning::cause::BlockCause;
 use crate::planning::planner::{cause_of, Planner};
 use crate::planning::pose_path::{pose_path, PoseMap, Ray, Spacing, Waypoint};
 use crate::planning::rig::iso_from;

@@ -1,11 +1,11 @@
 //! The pointwise gate before the dense levels: the sampled test "does this waypoint have a valid
 //! configuration?" in both roll modes. What it samples and what it guarantees is stated in the
-//! parent module's docs ([`crate::planning::planner`], "Pointwise gate").
+//! parent module's docs ([`crate::planning::ladder`], "Pointwise gate").
 
-use super::{Node, Planner, RayPlan, ReachClass, Scratch};
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::{Iso3, Real, Vec3};
+use crate::planning::planner::{Node, Planner, RayPlan, ReachClass, Scratch};
 use crate::planning::pose_path::{pose_path, PoseMap, Ray, Spacing, Waypoint};
 use crate::planning::rig::RollMode;
 use crate::robot::{IkParams, IkSolver, MAX_DOF};
@@ -29,7 +29,7 @@ impl Planner {
     /// The sampled pointwise test at arc length `s` of the ray `dir` (helix azimuth `azimuth`):
     /// does the rod end's pose there have a valid configuration in roll mode `roll` — IK, joint
     /// and motor limits, self, scene and rod collision? The test the gate before the dense
-    /// levels uses (module docs of [`crate::planning::planner`], "Pointwise gate"), here without
+    /// levels uses (module docs of [`crate::planning::ladder`], "Pointwise gate"), here without
     /// seeds from a plan. `false` means none was found. Errors: `s` not finite or negative, a
     /// helix the rod model refuses.
     ///
