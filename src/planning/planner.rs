@@ -183,15 +183,17 @@ pub struct RayPlan {
     pub backoffs: usize,
     /// Nodes the search created ([`crate::planning::search`]; 0 for the ladder).
     pub search_nodes: usize,
-    /// Start nodes per start component of the level that produced this plan: the base width
-    /// `redundancy_samples`, or k of a dense level (the ladder's; [`crate::planning::ladder`], "Dense levels"). A ray testable at level k is
-    /// testable for every `dense_samples` ≥ k.
+    /// Start nodes: the search's start configurations (every valid one of the start set); the
+    /// ladder's per start component of the level that produced this plan, the base width
+    /// `redundancy_samples` or k of a dense level ([`crate::planning::ladder`], "Dense
+    /// levels": a ray testable at level k is testable for every `dense_samples` ≥ k).
     pub start_samples: usize,
-    /// The dense levels were skipped: the base plan was partial and the pointwise gate found no
-    /// valid configuration at the first regular waypoint beyond `s_reached` ([`crate::planning::ladder`],
-    /// "Pointwise gate").
+    /// The ladder's dense levels were skipped: the base plan was partial and the pointwise gate
+    /// found no valid configuration at the first regular waypoint beyond `s_reached`
+    /// ([`crate::planning::ladder`], "Pointwise gate"). Always `false` for the search.
     pub levels_gated: bool,
-    /// DP cost of the path to `s_reached`.
+    /// Cost of the path to `s_reached`: the sum over its edges of ‖W·Δq‖ + w_m·|Δm| (the
+    /// rig's joint weights and motor weight; the ladder minimizes it, the search reports it).
     pub path_cost: Real,
     /// Largest joint step on the path (rad).
     pub max_joint_step: Real,
@@ -672,11 +674,9 @@ impl Planner {
             let p = self.plan_ray(dir, s_star, a, roll, want_path)?;
             let better = match &best {
                 None => true,
-                Some(b) => {
-                    (p.class.rank(), p.s_reached, -p.path_cost)
-                        .partial_cmp(&(b.class.rank(), b.s_reached, -b.path_cost))
-                        .is_some_and(|o| o.is_gt())
-                }
+                Some(b) => (p.class.rank(), p.s_reached, -p.path_cost)
+                    .partial_cmp(&(b.class.rank(), b.s_reached, -b.path_cost))
+                    .is_some_and(|o| o.is_gt()),
             };
             if better {
                 let done = p.class == ReachClass::Testable;

@@ -425,7 +425,8 @@ impl Planner {
             return Ok(fixed);
         }
         let native = self.decide_in(dir, s_star, azimuth, RollMode::Motor, want_path)?;
-        let better = (native.class.rank(), native.s_reached) > (fixed.class.rank(), fixed.s_reached);
+        let better =
+            (native.class.rank(), native.s_reached) > (fixed.class.rank(), fixed.s_reached);
         Ok(if !better {
             fixed
         } else if native.class == ReachClass::Undecided && fixed.s_reached > native.s_reached {
