@@ -33,7 +33,7 @@ fn one_direction(c: &mut Criterion) {
 /// The peer: DER statics at n = 100 on the same direction, in thread CPU time
 /// (`common/cpu_time.rs`: the number is single-thread CPU even on a loaded machine), at tol 1e-6
 /// and at the default 1e-8 (the README's DER table uses 1e-8), so the continuum/DER ratio and
-/// the issue-13 goal (≤ 5 ms per direction) can be read off directly.
+/// the goal of ≤ 5 ms per direction can be read off directly.
 fn der_peer(c: &mut Criterion<cpu_time::ThreadCpuTime>) {
     use helixreach::boundary::der;
     let d = Direction::new(0.594, 0.698, 0.4).unwrap();

@@ -1,4 +1,4 @@
-//! Criterion benchmarks of the DER dynamics (issue 4).
+//! Criterion benchmarks of the DER dynamics.
 //!
 //! - `implicit_step/n{50,100}`: one implicit Euler step (Newton on the banded system, ~2
 //!   iterations) of the paper-sim rod, the end moving along S̄ = [1,1,1]/√3 at v = 0.1/s with

@@ -1,5 +1,5 @@
-//! Layout speed: 200 candidate clamp placements × 173 directions on the seed rig (issue 11's
-//! target: ≤ 5 min on 2 cores), and the fraction of rays decided by the cheap checks.
+//! Layout speed: 200 candidate clamp placements × 173 directions on the seed rig (goal:
+//! ≤ 5 min on 2 cores), and the fraction of rays decided by the cheap checks.
 //!
 //! Not a criterion loop (one run is minutes): the whole layout runs once on a rayon pool of
 //! `HELIXREACH_BENCH_THREADS` threads (default 2) and the bench prints the wall time and the

@@ -1,4 +1,4 @@
-//! Criterion benchmarks of the planner (issue 6): one ray of the seed rig at the seed's density
+//! Criterion benchmarks of the planner: one ray of the seed rig at the seed's density
 //! (2,000 waypoints uniform in s) and at the adaptive default (5 mm / 2°), collision checks
 //! included. The peer, Descartes (10.4 s for 1,200 points, published), builds every rung from
 //! fresh IK solutions; the same run times that rung construction here (`solve_all` with j0
@@ -7,7 +7,7 @@
 //! shared by every ray) and excluded. Times are this thread's CPU time (`common/cpu_time.rs`),
 //! meaningful on a loaded machine.
 //!
-//! The issue-10 goal is a **median** over rays ("one ray of the seed rig ≤ 50 ms median CPU"),
+//! The goal is a **median** over rays ("one ray of the seed rig ≤ 50 ms median CPU"),
 //! and one ray says little about it: rays testable from the base rungs cost tens of ms, partial
 //! rays pay every dense start level. So before the criterion runs the bench plans every 40th
 //! direction of the 2,000-direction quarter-sphere lattice (50 rays, roll `fixed`, azimuth 0,

@@ -1,4 +1,4 @@
-//! Criterion benchmarks of `render` (issue 14), on this thread's CPU time (the meaningful figure
+//! Criterion benchmarks of `render`, on this thread's CPU time (the meaningful figure
 //! on the shared machine): the three stages of one GIF frame of the seed ray at the seed's
 //! density (2,000 waypoints), default GIF options (four views of 330 × 320 px):
 //! posing a row (FK, clearances, their points), drawing it into an RGB buffer, and reducing it

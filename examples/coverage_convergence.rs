@@ -1,4 +1,4 @@
-//! Coverage versus start-sampling density (issue 10): does the planner's answer stop changing
+//! Coverage versus start-sampling density: does the planner's answer stop changing
 //! when the sampling of the start's valid self-motion set is refined?
 //!
 //! Plans a Fibonacci direction set (quarter-sphere by default) once with the densest level

@@ -1,5 +1,5 @@
-//! Path quality on the seed's directions, side by side with the seed's own trajectories
-//! (issue 10): each of the 58 runs in the seed's `trajectories.csv` (`tests/data/seed/`) is planned with its
+//! Path quality on the seed's directions, side by side with the seed's own trajectories:
+//! each of the 58 runs in the seed's `trajectories.csv` (`tests/data/seed/`) is planned with its
 //! own clamp, roll `fixed`, at margin 0 (as the seed drove) and 0.1, and its load + hold + unload
 //! trajectory is compared with the executed one (out and back) on
 //!

@@ -1,4 +1,4 @@
-//! Why does the planner miss a seed direction the real robot drove? (issue 10)
+//! Why does the planner miss a seed direction the real robot drove?
 //!
 //! For each run of the seed's `trajectories.csv` (the repository's `tests/data/seed/`) (or the runs named on the command
 //! line) with its own clamp, roll `fixed`, margin 0:

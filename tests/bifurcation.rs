@@ -1,4 +1,4 @@
-//! Bifurcation type at s* (issue 12), checked against
+//! Bifurcation type at s*, checked against
 //! - the seed's labelled DER runs (`bifurcation_examples.csv` of `tests/data/seed/`, relative to
 //!   the crate root): the
 //!   type of a subset spanning both types (all 42 at n = 100 are in docs/RESULTS.md, from
@@ -98,7 +98,7 @@ fn labelled_values() -> Vec<(Direction, f64, f64)> {
         .collect()
 }
 
-/// Issue 12 item 1: the static return against the seed's dynamic returns (DER n = 100, v = 0.1).
+/// The static return against the seed's dynamic returns (DER n = 100, v = 0.1).
 /// At n = 100 all 38 labelled subcritical rays lie 0.40–1.24 % *below* the seed's values
 /// (a lightly damped run leaves the far branch a little before its fold, see the
 /// dynamics test below). The n-convergence of the static return (n = 30/50/100/200,
@@ -137,7 +137,7 @@ fn static_return_agrees_with_the_seeds_labelled_returns() {
     }
 }
 
-/// Issue 12 item 2: the dynamic return against the static one. The earlier test ran the
+/// The dynamic return against the static one. The earlier test ran the
 /// dynamics *undamped* and read a return of 3.69 against the static 5.94 at n = 16: without
 /// damping the post-snap rod rings (implicit Euler barely damps the slow modes), its elastic
 /// energy leaves the far branch early (≈ 6.2 at v = 0.2: the vibration throws it out of the
@@ -227,7 +227,7 @@ fn damped_dynamic_unloading_follows_the_static_far_branch_and_returns_at_its_end
     );
 }
 
-/// Issue 12 item 3: on (0.890, 0.237, 0.389) the snap of the DER rod (which has no contact)
+/// On (0.890, 0.237, 0.389) the snap of the DER rod (which has no contact)
 /// throws a loop of the rod over the clamped end: the relaxed post-snap state lies on a branch
 /// with the linking number changed by 2, which the static return then followed down to the
 /// floor s = 10⁻³·s* (a nearly straight rod with two extra turns of twist) and reported as
@@ -250,7 +250,7 @@ fn a_snap_through_the_clamp_gives_no_return_point_and_says_why() {
     );
 }
 
-/// Issue 12 item 3: on (0.442, 0.023, 0.897) the relaxed post-snap state at 1.02·s* is
+/// On (0.442, 0.023, 0.897) the relaxed post-snap state at 1.02·s* is
 /// stable and within 10⁻⁴ of the centerline of the (unstable) helix: the contact-free DER rod
 /// passed through itself or over an end too fast for the per-step contact check and shed two
 /// turns of twist (elastic energy 10.56 against the helix's 68.17). Its linking number differs
@@ -273,8 +273,8 @@ fn a_passage_the_contact_check_misses_is_caught_by_the_linking_number() {
     let b = classify(&d, &p).unwrap();
     assert_eq!(b.kind, BifurcationType::Subcritical, "{b:?}");
     assert!(b.s_return.is_nan(), "{b:?}");
-    // Which check sees it first depends on the exact relaxation path (on main at dcc2232 the
-    // per-step contact check catches this ray at the clamp's continuation); either way the row
+    // Which check sees it first depends on the exact relaxation path (the per-step
+    // contact check can catch this ray at the clamp's continuation); either way the row
     // names the passage and carries no number. The linking number's jump itself is tested in
     // `bifurcation::contact`.
     assert!(
@@ -285,8 +285,8 @@ fn a_passage_the_contact_check_misses_is_caught_by_the_linking_number() {
     );
 }
 
-/// Issue 12: `helixreach bifurcation --fibonacci 150 --quarter` aborted at this direction
-/// (n = 100, main at 15afdbb: "constrained minimization along the critical mode did not
+/// A regression: `helixreach bifurcation --fibonacci 150 --quarter` aborted at this direction
+/// (n = 100: "constrained minimization along the critical mode did not
 /// converge after 30 iterations (residual NaN)"). The reduction's constrained Newton judged
 /// convergence on its step alone, which the round-off of the stiff stretching force
 /// (`k_s = 10⁸`) divided by a soft eigenvalue never lets reach 1e-13; it now stops on the
@@ -364,7 +364,7 @@ fn the_command_writes_a_row_for_an_undecidable_direction() {
     assert_eq!(rows[1][4], "supercritical", "{text}");
 }
 
-/// Issue 12, planning consequence: a rig's `margin_supercritical` (TOML `[planner]`, default
+/// Planning consequence: a rig's `margin_supercritical` (TOML `[planner]`, default
 /// `margin`) drives a supercritical ray further past s* than a subcritical one, and the plan
 /// and the reach row say which type was assumed (the seed's labels: (0.958, 0.287, 0)
 /// supercritical, (0.838, 0.545, 0) subcritical).
@@ -664,7 +664,7 @@ fn branch_point_at_amplitude(
     panic!("bordered Newton did not converge");
 }
 
-/// Issue 12 item 4: an independent check of the **subcritical** coefficient (and of the
+/// An independent check of the **subcritical** coefficient (and of the
 /// supercritical one once more), by following the bifurcated branch itself: at two amplitudes
 /// the bordered Newton above solves the full DER equilibrium equations with s free. On the
 /// seed's subcritical (0.838, 0.545, 0) the branch points lie *below* s* and carry exactly one

@@ -1,4 +1,4 @@
-//! Stability boundary (issue 3, continuum half), the sweep driver and the `boundary` / `merge`
+//! Stability boundary (continuum), the sweep driver and the `boundary` / `merge`
 //! commands.
 //!
 //! The continuum boundary is checked against
@@ -375,7 +375,7 @@ fn straight_rod_limit(tau: f64, omega: f64) -> f64 {
     }
 }
 
-/// Issue 13: `boundary --method continuum` on `1e-160,1,0` returned s* = 1.3 with est_error
+/// A regression: `boundary --method continuum` on `1e-160,1,0` returned s* = 1.3 with est_error
 /// 1e-15 (the limit is 2π): `det J = O(κ²)` underflowed. Every representable κ̂ > 0 — the decades
 /// 10⁻¹ … 10⁻³⁰⁰, the smallest normal and subnormals down to the smallest f64 — gives a result
 /// right to its `est_error` (plus the O(κ̂²) distance to the limit): against direct RK integration
@@ -857,7 +857,7 @@ fn cli_bad_input_names_the_problem() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("shard"));
 }
 
-/// The DER-statics boundary (n = 100) agrees with the continuum within the issue's 0.1 % on a
+/// The DER-statics boundary (n = 100) agrees with the continuum within 0.1 % on a
 /// handful of generic directions (the convergence study itself lives with the DER tests).
 #[test]
 fn der_n100_agrees_with_continuum() {

@@ -3,7 +3,7 @@
 //! `cargo run --release --features interop -- demo` builds the normal dependencies;
 //! `cargo test --release --features interop` also activates the dev-dependencies, whose features
 //! unify into shared crates. A crate built with a different feature set is a different unit and
-//! compiles twice (issue 15: serde "alloc" from criterion made the test build recompile serde and
+//! compiles twice (serde "alloc" from criterion made the test build recompile serde and
 //! everything above it). Cargo.toml enables those features in the `cli` build; this test asks
 //! `cargo tree` (offline, from Cargo.lock) for the feature set of every crate in both builds and
 //! fails naming each crate whose features differ.

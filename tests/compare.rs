@@ -1,4 +1,4 @@
-//! Measured versus simulated boundaries (issue 12): the `compare` library and command.
+//! Measured versus simulated boundaries: the `compare` library and command.
 //!
 //! Checked against an independent recomputation of the paper's statistics from the written CSV,
 //! the seed's 119 measured snap points (read from `tests/data/seed/`, relative to the crate

@@ -1,4 +1,4 @@
-//! Data safety of sweep outputs, bounded inputs and CLI details (issue 13): a finished result is
+//! Data safety of sweep outputs, bounded inputs and CLI details: a finished result is
 //! never replaced by less, every output records its settings and `--resume` refuses others,
 //! one writer per output, stale temp files removed, checkpoints on time, `--out -` streams,
 //! `merge` checks shards, outputs are checked before computing, every size is bounded.
@@ -1269,7 +1269,7 @@ fn a_ray_cut_by_the_waypoint_limit_is_never_testable() {
     assert!(cut > 0, "no ray reported the waypoint limit");
 }
 
-/// The same through the binary (the issue's reproduction): every row's class agrees with its
+/// The same through the binary (the reported reproduction): every row's class agrees with its
 /// numbers.
 #[test]
 fn reach_rows_cut_by_the_waypoint_limit_say_so() {

@@ -1,4 +1,4 @@
-//! DER dynamics (issue 4): quasi-static agreement with the DER statics boundary, the paper's
+//! DER dynamics: quasi-static agreement with the DER statics boundary, the paper's
 //! qualitative disturbance findings, energy behaviour of implicit Euler, analytic beam limits
 //! (natural frequency, self-weight sag), the detection rule and bad input.
 //!

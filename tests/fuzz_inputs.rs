@@ -1,4 +1,4 @@
-//! A fuzz-style corpus of malformed inputs (issue 13): direction and boundary CSVs, rig TOML,
+//! A fuzz-style corpus of malformed inputs: direction and boundary CSVs, rig TOML,
 //! URDF, and extreme numbers (1e308, 1e400 → inf, -0, NaN, inf, huge integers). Every library
 //! loader and a few CLI invocations must reject each one with an error — never a panic, never a
 //! silent NaN — and the error must name the file, the field and the offending value.

@@ -1,4 +1,4 @@
-//! Rig layout (issue 11): set cover against exhaustive enumeration, the reach bound against FK,
+//! Rig layout: set cover against exhaustive enumeration, the reach bound against FK,
 //! rig files round-tripped, the layout's coverage recounted by the reach sweep from the written
 //! rig files, no-feasible-clamp reports, resume rules and bad input.
 

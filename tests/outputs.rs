@@ -336,7 +336,7 @@ fn every_command_writes_fifos_and_devices_in_place() {
     );
 }
 
-/// Issue 26, item 3: no overwrite without `--force`; never onto the command's own input, nor
+/// No overwrite without `--force`; never onto the command's own input, nor
 /// onto a finished sweep output, nor onto a path a running writer holds locked.
 #[test]
 fn commands_never_overwrite_inputs_finished_results_or_locked_paths() {
@@ -462,7 +462,7 @@ fn commands_never_overwrite_inputs_finished_results_or_locked_paths() {
     ]);
 }
 
-/// Issue 26, item 11: symlinks planted at the lock, temp and probe names are never followed.
+/// Symlinks planted at the lock, temp and probe names are never followed.
 #[test]
 fn planted_symlinks_are_never_followed() {
     let dir = tempfile::tempdir().unwrap();
@@ -541,7 +541,7 @@ fn tamper(csv: &Path, text: &str) {
     std::fs::write(&side, meta.to_string()).unwrap();
 }
 
-/// Issue 26, item 13: `merge` and `--resume` parse and check every row read back.
+/// `merge` and `--resume` parse and check every row read back.
 #[test]
 fn merge_and_resume_refuse_bad_rows() {
     let i = inputs();

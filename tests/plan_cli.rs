@@ -11,7 +11,7 @@ fn helixreach(args: &[&str]) -> Output {
         .expect("run helixreach")
 }
 
-/// The ray: on the seed rig it stops at s ≈ 2.13 of its target s*·1.1 ≈ 7.33 (no IK).
+/// A ray that stops early: on the seed rig it stops at s ≈ 2.13 of its target s*·1.1 ≈ 7.33 (no IK).
 const PARTIAL_RAY: &str = "0.9294,0.075,0.3614";
 
 fn json(path: &Path) -> serde_json::Value {

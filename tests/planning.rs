@@ -1,4 +1,4 @@
-//! Planning tests (issue 6): every planned trajectory is checked independently of the planner —
+//! Planning tests: every planned trajectory is checked independently of the planner —
 //! the expected rod-end pose is rebuilt here from the helix module and the rig's frames (not from
 //! `planning::pose_path`), configurations and segments are re-checked with a fresh collision model
 //! at a finer interpolation, and limits and steps are recomputed from the joint values.
@@ -18,7 +18,7 @@ fn seed_planner() -> &'static Planner {
     P.get_or_init(|| Planner::new(Rig::load("sawyer-seed").unwrap()).unwrap())
 }
 
-/// P = [e2 e1 −e3]: tool x = d2, tool y = d1, tool z = −d3 (issue 6), written out here.
+/// P = [e2 e1 −e3]: tool x = d2, tool y = d1, tool z = −d3, written out here.
 fn p_matrix() -> Mat3 {
     Mat3::from_columns(&[Vec3::y(), Vec3::x(), -Vec3::z()])
 }
@@ -36,7 +36,7 @@ fn expected(rig: &Rig, kto: [Real; 3], alpha: Real) -> (Vec3, Mat3, Mat3) {
     (p, transported * p_matrix(), material)
 }
 
-/// Check a planned path against everything issue 6 asks, independently of the planner.
+/// Check a planned path against every requirement of a trajectory, independently of the planner.
 fn verify(planner: &Planner, plan: &RayPlan) {
     let rig = planner.rig();
     let model = planner.model();
@@ -484,7 +484,7 @@ fn the_verifier_catches_corrupted_paths() {
     ));
 }
 
-/// A scene obstacle that forces a reconfiguration (issue 10): a ball of radius 0.07 m where the
+/// A scene obstacle that forces a reconfiguration: a ball of radius 0.07 m where the
 /// unobstructed plan of (0.5, 0.5, 0.7) puts `right_l3` at 30 % of its path (found by a search
 /// over link positions of that path). Without reconfiguration no plan gets past s ≈ 9.5; with
 /// it the ray is testable, and `verify` re-checks every intermediate configuration of every

@@ -1,4 +1,4 @@
-//! Reachability you can trust (issue 10), planner side:
+//! Reachability you can trust, planner side:
 //!
 //! - the seed experiment's 58 executed directions, each with its own clamp, at margin 0 in roll
 //!   `fixed` (the real robot drove them all): the testable fraction, by the ladder and the search;
@@ -244,8 +244,8 @@ fn a_seed_run_is_testable_by_the_motor_roll() {
 }
 
 /// More samples never reach less: doubling `planner.dense_samples` (the start sampling of the
-/// dense levels) on the direction where twice the base width reached less (issue 10:
-/// (0.3226, 0.4013, 0.8573), 5.53 with 16 base nodes vs 5.78 with 8), and on every 80th
+/// dense levels) on the direction where twice the base width reached less
+/// ((0.3226, 0.4013, 0.8573), 5.53 with 16 base nodes vs 5.78 with 8), and on every 80th
 /// direction of the quarter-sphere lattice. Each level is asserted to contain the previous.
 #[test]
 fn more_start_samples_never_reach_less() {

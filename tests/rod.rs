@@ -397,7 +397,7 @@ fn equilibrium_converges_to_the_sampled_helix() {
 
 /// 2·x₁ with tan x₁ = x₁: the critical twisting moment of a clamped–clamped straight rod
 /// (Greenhill's problem with clamped ends and fixed end positions: the buckling condition is
-/// tan(ω/2) = ω/2; see Borum & Bretl 2020 and the issue text).
+/// tan(ω/2) = ω/2; see Borum & Bretl 2020).
 fn omega_axis_critical() -> Real {
     let mut x: Real = 4.4934;
     for _ in 0..50 {
@@ -656,7 +656,7 @@ fn der_errors(d: &Direction, ns: &[usize]) -> Vec<Real> {
         .collect()
 }
 
-/// Issue 13: near the τ axis DER statics returned s* = ∞ ((0.01, 1, 0)) or a far wrong value
+/// A regression: near the τ axis DER statics returned s* = ∞ ((0.01, 1, 0)) or a far wrong value
 /// (+126 % at every n on (0.0103, −0.6407, 0.7677), the 2,000-direction half-sphere's #20): the
 /// penalized rod (k_s = 10⁶) could not carry the helix's compression, and cold Newton starts
 /// near s* landed on other equilibria. Now both converge to the continuum (the Euler column 2π
@@ -670,7 +670,7 @@ fn der_near_tau_axis_converges_to_the_continuum() {
     assert!(e[1].abs() < 5e-4 && (3.3..5.5).contains(&ratio), "{e:?}");
 }
 
-/// Issue 13, the κ → 0 band: on main (8.6e-6, 1, 0) was refused by the extensibility guard
+/// The κ → 0 band: (8.6e-6, 1, 0) was refused by the extensibility guard
 /// (κ̂ ≲ 3e-3 near the τ axis) and (0.0018, 0.6084, −0.7936) (the 2,000-direction half-sphere's)
 /// stalled in the augmented Lagrangian. The inextensible rod by KKT Newton converges on the sweep
 /// κ̂ = 10⁻² … 10⁻⁶ toward the τ axis (limit: the clamped Euler column, s* → 2π) and toward
@@ -834,7 +834,7 @@ fn inextensible_equilibrium_and_inertia_match_a_dense_reference() {
     assert!(saw_stable && saw_unstable);
 }
 
-/// Issue 13: order 2 on hard directions — the error decreases by ≈ 4 from n = 50 to 100 to 200.
+/// Order 2 on hard directions — the error decreases by ≈ 4 from n = 50 to 100 to 200.
 /// On (0.0203, −0.1789, −0.9837) the n = 200 error was 7× the n = 100 one, on
 /// (0.0503, 0.3288, −0.9430) all n were stuck at −3.4 … −4.6 % (a wrong equilibrium), and on
 /// (0.175, −0.366, −0.914) (s* ≈ 25.5, the demo's n = 25 outlier) the large s* makes the
@@ -857,7 +857,7 @@ fn der_order_two_on_hard_directions() {
     }
 }
 
-/// Issue 13: at n = 25 the direction (0.175, −0.366, −0.914) was 55 % off with an est_error of
+/// At n = 25 the direction (0.175, −0.366, −0.914) was 55 % off with an est_error of
 /// 1e-8 (root finding only): the frames turn 1.4 rad per edge there. At n = 25 it is now
 /// refused by the resolution guard (naming the n needed); from n = 50 on the est_error includes
 /// the discretization bound and covers the actual error, and from n = 100 on it is useful
@@ -887,7 +887,7 @@ fn der_n25_outlier_est_error_covers_the_discretization_error() {
     }
 }
 
-/// Issue 13: with the stiff stretching penalty (k_s = 10⁸) Newton's basin was tiny, predicted
+/// With the stiff stretching penalty (k_s = 10⁸) Newton's basin was tiny, predicted
 /// starts near s* failed and the failures counted as "unstable": at n = 100 these directions
 /// were −1.0 %, −1.5 % and −1.0 % off while n = 50 and 200 were within 10⁻⁴, and
 /// (0.2248, −0.9743, 0.0168) stalled with an error. With the augmented-Lagrangian
@@ -910,7 +910,7 @@ fn der_n100_is_right_where_newton_used_to_fail() {
     }
 }
 
-/// Issue 13's truth defect: on the large-s* band κ̂ ≲ 0.08, |ω̂| ≈ 0.9 the discrete rod at
+/// A truth defect: on the large-s* band κ̂ ≲ 0.08, |ω̂| ≈ 0.9 the discrete rod at
 /// n = 100 is far from its asymptotic regime ((0.0328, 0.4693, 0.8824): continuum s* = 96.65,
 /// DER 70.3 ± 17, 27 % off, was written as a number). At n = 100 it is now an error naming the
 /// n needed (1.24 rad per edge); from n = 200 on the result is within its est_error of the
@@ -1043,7 +1043,7 @@ fn der_seeded(d: &Direction, shortcuts: bool) -> (Real, usize) {
     (r.s_star, ray.work().0)
 }
 
-/// Issue 13 (speed): the shortcuts (a cold start half-way to s*, continuation steps on the
+/// Speed: the shortcuts (a cold start half-way to s*, continuation steps on the
 /// augmented-Lagrangian rod) must find the same s* as the full search — the same equilibria,
 /// reached with less work — on directions of every kind off the κ = 0 band (the κ axis, the
 /// paper's Fig. 2b, a compressed and a stretched helix, a mostly twisted one).
@@ -1071,7 +1071,7 @@ fn der_shortcuts_find_the_same_s_star_with_less_work() {
     }
 }
 
-/// Issue 13: near the κ = 0 plane the augmented-Lagrangian rod of the continuation steps
+/// Near the κ = 0 plane the augmented-Lagrangian rod of the continuation steps
 /// (k_s = 10⁶) buckles before the penalty rod does, and a cold start half-way to s* landed on a
 /// neighbouring equilibrium of the nearly straight rod: on (0.00125, 0.0874, 0.9962) (the
 /// 2,000-direction half-sphere's) the shortcuts gave s* = 10.077 against the continuum 10.230,
@@ -1101,7 +1101,7 @@ fn half_sphere_2000(v: [Real; 3]) -> Direction {
         .unwrap()
 }
 
-/// Issue 13 (truth): the two directions of the half-sphere refused at n = 200 by the check
+/// Truth: the two directions of the half-sphere refused at n = 200 by the check
 /// against the continuum. The DER root was right and its `est_error` too small: the DER s*
 /// converges to the continuum (an independent method, here to 1e-11) at order 2 — err(400) /
 /// err(800) ≈ 4 on both — so it is no neighbouring branch, but |s*_n/s*_∞ − 1|/φ² reaches 0.70

@@ -274,7 +274,7 @@ pub struct PlannerSettings {
     pub margin: Real,
     /// Fraction past s* for a ray whose loss of stability is supercritical (a gradual
     /// departure: amplitude ∝ √(s − s*), so it must be driven further before it is visible);
-    /// `None` = [`PlannerSettings::margin`] (TOML `margin_supercritical`, issue 12). See
+    /// `None` = [`PlannerSettings::margin`] (TOML `margin_supercritical`). See
     /// [`PlannerSettings::margin_for`].
     pub margin_supercritical: Option<Real>,
     /// Largest rod-end translation between consecutive waypoints (m).
@@ -356,7 +356,7 @@ pub struct PlannerSettings {
 }
 
 impl PlannerSettings {
-    /// The margin past s* for a ray of bifurcation type `kind` (issue 12): `margin` for a
+    /// The margin past s* for a ray of bifurcation type `kind`: `margin` for a
     /// subcritical ray (it snaps at s*), `margin_supercritical` (default `margin`) for a
     /// supercritical one, and the larger of the two when the type is `degenerate` or not known
     /// (`None`): a ray is then called testable only if the robot can drive it as far as either
@@ -391,7 +391,7 @@ impl PlannerSettings {
 }
 
 impl Default for PlannerSettings {
-    /// The defaults of issue 6 (5 mm / 2° waypoints, 0.05 rad joint steps, 10 % margin).
+    /// The defaults (5 mm / 2° waypoints, 0.05 rad joint steps, 10 % margin).
     ///
     /// ```
     /// let p = helixreach::planning::rig::PlannerSettings::default();
