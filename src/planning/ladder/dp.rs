@@ -22,7 +22,7 @@
 //! angles in it.
 //!
 //! ```
-//! use helixreach::planning::{cause::BlockCause, ladder::Ladder};
+//! use helixreach::planning::{cause::BlockCause, ladder::dp::Ladder};
 //! // Two tracks along three rungs; the cheap gate forbids steps larger than 1.
 //! let mut l: Ladder<f64> = Ladder::new();
 //! l.push_first(vec![0.0, 10.0]);

@@ -1,12 +1,13 @@
 //! The ladder: a ray decided by rungs of tracked IK solutions under dynamic programming
 //! (Descartes-style: pose path → rungs → DP → joint + motor path), `planner.search = "ladder"`.
 //!
-//! The search of the valid set ([`crate::planning::search`], the default) decides every ray
-//! exactly at a stated resolution, with a path or a certificate. The ladder finds a path when
+//! The search of the valid set ([`crate::planning::search`], the default) decides a ray
+//! exactly at a stated resolution, with a path or a certificate (or reports it `undecided` at
+//! its node bound). The ladder finds a path when
 //! its stages find one and gives no certificate of a stop: a ray it calls partial may be
 //! testable. It is kept as `--search ladder` and as the peer of the search's speed and
-//! coverage figures (`docs/RESULTS.md`). Submodules: `dp` (the layered graph and its forward
-//! dynamic programming, [`Ladder`]), `gate` (the pointwise gate).
+//! coverage figures (`docs/RESULTS.md`). Submodules: [`dp`] (the layered graph and its forward
+//! dynamic programming), `gate` (the pointwise gate).
 //!
 //! # Rungs
 //! - **Start** (s = 0, the straight rod — the same pose for every ray and azimuth): a diverse set
@@ -104,7 +105,7 @@
 //! `i → j` exists when every joint step is ≤ `max_joint_step`; its cost is `‖W·Δq‖ +
 //! w_m·|Δm|`. The straight joint-space segment is checked for collision at interior samples no
 //! more than `segment_check_step` apart (max-norm), against the rod of the later waypoint. The DP
-//! is [`Ladder`].
+//! is [`dp::Ladder`].
 //!
 //! # Reconfiguration at a held pose
 //! When no node of the next rung can be joined even after `MAX_REFINE` halvings of the s-step,
@@ -168,10 +169,10 @@ use crate::planning::self_motion::{self, Held};
 use crate::planning::trajectory::Phase;
 use crate::robot::{IkSolver, IkTarget};
 
-mod dp;
+pub mod dp;
 mod gate;
 
-pub use dp::{Ladder, RungOutcome};
+use dp::Ladder;
 
 /// Halvings of the s-step allowed at one waypoint when its rung cannot be joined.
 const MAX_REFINE: u32 = 4;
