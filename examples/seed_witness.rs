@@ -10,7 +10,8 @@
 //!    over the joint-step bound tried as a self-motion walk at the held pose. Reported: the
 //!    seed's own farthest s (continuum and 100-edge discrete end frame), the largest correction,
 //!    the witness extent and why it ends, the jumps;
-//! 3. our planner started from the witness's first configuration (`Planner::plan_ray_from`);
+//! 3. the ladder started from the witness's first configuration (`Planner::plan_ray_from`: how far
+//!    tracked branches get from a given start; the search starts from the whole start set);
 //! 4. at our stop s: whether the witness configuration at that s lies on the connected valid
 //!    self-motion component of our stopping configuration (a walk at the held pose from ours
 //!    passes within half a joint step of it).
@@ -185,7 +186,7 @@ fn diagnose(run: &Run, seed: &std::path::Path, base: &Rig) -> anyhow::Result<Str
         std::slice::from_ref(w0),
     )?;
     out += &format!(
-        "  ours from the witness start: {} at s = {:.3} ({:?}), {} reconfigurations\n",
+        "  the ladder from the witness start: {} at s = {:.3} ({:?}), {} reconfigurations\n",
         from.class.as_str(),
         from.s_reached,
         from.cause,
