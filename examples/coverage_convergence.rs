@@ -8,7 +8,7 @@
 //! level ≤ k: one pass gives the coverage at every k = R (the base rungs alone), 2R, 4R, … ≤ D.
 //!
 //! `--no-gate` switches the pointwise gate before the dense levels off
-//! ([`Planner::set_level_gate`]: every level runs, as before the gate) — run with and without it
+//! ([`Planner::set_level_gate`]: every level runs) — run with and without it
 //! and compare the per-ray CSVs to see what the gate changes.
 //!
 //! Writes `coverage_density.csv` (one row per direction, with `levels_gated`), `coverage_density.png` / `.svg` (the

@@ -137,8 +137,8 @@ fn static_return_agrees_with_the_seeds_labelled_returns() {
     }
 }
 
-/// The dynamic return against the static one. The earlier test ran the
-/// dynamics *undamped* and read a return of 3.69 against the static 5.94 at n = 16: without
+/// The dynamic return against the static one. Run *undamped*, the dynamics read a return of
+/// 3.69 against the static 5.94 at n = 16: without
 /// damping the post-snap rod rings (implicit Euler barely damps the slow modes), its elastic
 /// energy leaves the far branch early (≈ 6.2 at v = 0.2: the vibration throws it out of the
 /// narrowing basin before the fold), and the helix error then stays above the threshold until
@@ -256,8 +256,7 @@ fn a_snap_through_the_clamp_gives_no_return_point_and_says_why() {
 /// turns of twist (elastic energy 10.56 against the helix's 68.17). Its linking number differs
 /// from the helix's by exactly −2 ([`helixreach::bifurcation::contact::linking_number`]; or,
 /// depending on the relaxation path, the per-step contact check sees the passage itself); the
-/// row has no s_return and says so (an earlier version said only "relaxed to a state only 6e-5
-/// from the helix").
+/// row has no s_return and says so.
 #[test]
 fn a_passage_the_contact_check_misses_is_caught_by_the_linking_number() {
     let d = Direction::new(

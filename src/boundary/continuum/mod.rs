@@ -37,8 +37,8 @@
 //! # Balancing for κ → 0
 //! On a straight rod an axial force does not change the shape and the end cannot move axially
 //! to first order, so the `δn_z` column and the `β_z` row of `J` are `O(κ)` and `det J = O(κ²)`:
-//! for κ ≲ 1e-154 it leaves the normal range and its sign and size are rounding noise (a
-//! direction `1e-160, 1, 0` used to return s* = 1.3 instead of the limit 2π). The scan therefore
+//! for κ ≲ 1e-154 it leaves the normal range and its sign and size are rounding noise (unbalanced,
+//! the direction `1e-160, 1, 0` gives s* = 1.3 instead of the limit 2π). The scan therefore
 //! propagates the balanced variables `β_z/κ` and `κ·δn_z` (`kernel::generator_balanced`, a
 //! positive diagonal similarity that keeps the sign and zeros of `det J`), whose generator is
 //! bounded with a nondegenerate limit as κ → 0: every representable κ̂ > 0 is resolved, and

@@ -151,8 +151,8 @@
 //! ray gated at 3 may reach less than stage 4 would, by less than one waypoint interval.
 //!
 //! Sampling the 2-D components with k points each (instead of k per roll) is a coarser start
-//! set, not a subset of the former one, so it is checked against the former code (every stage
-//! run): on the demo lattice (`reach --fibonacci 100 --quarter --roll motor`) all 100 classes
+//! set, not a subset of the per-roll one; measured against k per roll (every stage run) on the
+//! demo lattice (`reach --fibonacci 100 --quarter --roll motor`) all 100 classes
 //! are identical (80 testable); 14 of the 20 partial rays reach a different s (5 farther by
 //! ≤ 0.003, 9 less: by ≤ 0.05 except two by 0.55 and 0.47, 10 % of their s), 7 report another
 //! cause. CPU 268 → 47 s (`--threads 1`, user + sys, same load).

@@ -23,7 +23,7 @@
 //! What is guaranteed: two start solutions share a motor component only if a valid path at the
 //! walk resolution joins them in the 2-D valid set (so a component is connected at that
 //! resolution). Not the converse: a connection the roll walks miss leaves two components, i.e.
-//! more start nodes (the behaviour before the merge, where every roll was a component).
+//! more start nodes, never fewer.
 //!
 //! # Orders
 //! Each component's pool (its IK solutions, then its walk samples; in roll `motor` the pools of
