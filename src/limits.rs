@@ -21,7 +21,7 @@
 //! | rendered frames (`render --frames`, `--gif-frames`) | [`MAX_FRAMES`] = 10,000 | one image each |
 //! | shards (`--shard I/N`) | N ≤ [`MAX_SHARDS`] = 100,000 | |
 //! | checkpoint interval (`--checkpoint-secs`) | ≤ [`MAX_CHECKPOINT_SECS`] = 1 day | |
-//! | search nodes per ray (rig `planner.max_search_nodes`) | [`MAX_SEARCH_NODES`] = 9,000,000 | ≈ 1 GiB |
+//! | search nodes per ray (rig `planner.max_search_nodes`) | [`MAX_SEARCH_NODES`] = 6,000,000 | ≈ 1 GiB |
 //! | the search's self-motion step (rig `planner.search_step`) | ≤ `planner.max_joint_step`, and coarse enough that one slice's cover (16 curves of length 2π at 0.6 of the step) fits `planner.max_search_nodes` ([`crate::planning::search::check_resolution`]) | nodes per slice ∝ 1 / step |
 //! | halvings of a slice interval by a search bridge (rig `planner.bridge_halvings`) | [`MAX_BRIDGE_HALVINGS`] = 8 | at most 2⁸ tracks per bridge |
 //! | collision mesh files ([`crate::robot::mesh`]) | [`MAX_MESH_FILE_BYTES`] = 64 MiB, [`MAX_MESH_TRIANGLES`] = 1,000,000 triangles | bounded memory |
@@ -62,9 +62,9 @@ const _: () = assert!(40 * MAX_RIG_COUNT <= MAX_IK_RESTARTS);
 pub const MAX_IK_ITERATIONS: usize = 100_000;
 /// Most waypoints per ray (the rig's `max_waypoints` may be lower).
 pub const MAX_WAYPOINTS: usize = 1_000_000;
-/// Most nodes of one ray's search (rig `planner.max_search_nodes`): 1 GiB at ≈ 112 bytes per
+/// Most nodes of one ray's search (rig `planner.max_search_nodes`): 1 GiB at ≈ 168 bytes per
 /// node ([`crate::planning::search::MAX_SEARCH_BYTES`]).
-pub const MAX_SEARCH_NODES: usize = 9_000_000;
+pub const MAX_SEARCH_NODES: usize = 6_000_000;
 
 /// Most halvings of a slice interval by the search's bridges (rig `planner.bridge_halvings`):
 /// poses down to 1/256 of the interval, at most 2⁸ tracks per bridge.

@@ -338,7 +338,7 @@ pub struct PlannerSettings {
     /// Allow driving back along the ray below s* to reconfigure (the search only; phase
     /// `backoff`).
     pub allow_backoff: bool,
-    /// Most nodes of one ray's search (≈ 112 bytes each); a ray needing more is `undecided`.
+    /// Most nodes of one ray's search (≈ 168 bytes each); a ray needing more is `undecided`.
     /// Default 50,000 (≈ 5.6 MB, about 0.4 s CPU per ray at the bound): roll `fixed` rays of the
     /// seed rig need at most about 31,000 at the default `search_step`; large roll `motor`
     /// pieces need more (`docs/RESULTS.md`), and a study that must decide them raises it.

@@ -40,7 +40,7 @@ use super::kinematics::{Frame, Jacobian, MAX_DOF};
 use super::model::RobotModel;
 use crate::error::{Error, Result};
 use crate::math::{rotation_sin_cos, tol, Mat3, Real, Vec3};
-use nalgebra::{Matrix6, Vector6};
+use nalgebra::Vector6;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -215,18 +215,35 @@ impl IkTarget {
     }
 }
 
-/// The solution y of `(J·Jᵀ + λ·I)·y = e` (6×6, symmetric positive definite for λ > 0) by
-/// Cholesky factorization; `None` when a pivot is not positive (λ ≤ 0 on a singular `J`, or a
-/// non-finite entry). The factorization and the two triangular solves are written out for the
-/// fixed size (fully unrolled): nalgebra's generic factorization of the same matrix costs about
-/// a twelfth of a track's instructions, this one about half of that.
+/// The solution y of `(J·W·Jᵀ + λ·I)·y = e` with `W = diag(w)`, `w ≥ 0` (6×6, symmetric
+/// positive definite for λ > 0) by Cholesky factorization; `None` when a pivot is not
+/// positive (λ ≤ 0 on a singular `J·W^½`, or a non-finite entry). Only the lower triangle of
+/// `J·W·Jᵀ` is formed; the factorization and the two triangular solves are written out for the
+/// fixed size (fully unrolled): nalgebra's generic product and factorization of the same
+/// matrix cost about a sixth of a track's instructions, these about a third of that.
 #[inline]
-fn damped_normal_solve(j: &Jacobian, lambda: Real, e: &Vector6<Real>) -> Option<Vector6<Real>> {
-    let a: Matrix6<Real> = j * j.transpose();
+fn damped_normal_solve(
+    j: &Jacobian,
+    w: &[Real; MAX_DOF],
+    lambda: Real,
+    e: &Vector6<Real>,
+) -> Option<Vector6<Real>> {
     // Constant loop bounds (the triangles by `if`): the compiler unrolls every loop.
+    let mut a = [[0.0; 6]; 6];
+    for k in 0..MAX_DOF {
+        let wk = w[k];
+        for r in 0..6 {
+            let jr = j[(r, k)] * wk;
+            for c in 0..6 {
+                if c <= r {
+                    a[r][c] += jr * j[(c, k)];
+                }
+            }
+        }
+    }
     let mut l = [[0.0; 6]; 6];
     for c in 0..6 {
-        let mut d = a[(c, c)] + lambda;
+        let mut d = a[c][c] + lambda;
         for k in 0..6 {
             if k < c {
                 d -= l[c][k] * l[c][k];
@@ -240,7 +257,7 @@ fn damped_normal_solve(j: &Jacobian, lambda: Real, e: &Vector6<Real>) -> Option<
         let inv = 1.0 / dc;
         for r in 0..6 {
             if r > c {
-                let mut v = a[(r, c)];
+                let mut v = a[r][c];
                 for k in 0..6 {
                     if k < c {
                         v -= l[r][k] * l[c][k];
@@ -464,6 +481,30 @@ impl<'a> IkSolver<'a> {
         seed: &[Real],
         lock: Option<(usize, Real)>,
     ) -> Option<IkSolution> {
+        self.track_into(target, seed, lock, None)
+    }
+
+    /// [`IkSolver::track`], also writing the geometric Jacobian at the solution into `jac`
+    /// (the one the run evaluated there: [`crate::robot::kinematics::Chain::jacobian`] of the
+    /// returned joints, bit for bit, for an [`IkTarget::Pose`]; for an [`IkTarget::Axis`] its
+    /// angular rows are projected off the tool axis). `jac` is left unspecified on `None`.
+    pub fn track_with_jacobian(
+        &self,
+        target: &IkTarget,
+        seed: &[Real],
+        lock: Option<(usize, Real)>,
+        jac: &mut Jacobian,
+    ) -> Option<IkSolution> {
+        self.track_into(target, seed, lock, Some(jac))
+    }
+
+    fn track_into(
+        &self,
+        target: &IkTarget,
+        seed: &[Real],
+        lock: Option<(usize, Real)>,
+        jac_out: Option<&mut Jacobian>,
+    ) -> Option<IkSolution> {
         let n = self.model.dof();
         if seed.len() != n {
             return None;
@@ -478,7 +519,7 @@ impl<'a> IkSolver<'a> {
             }
             q[j] = v;
         }
-        self.lm(target, q, lock.map(|l| l.0))
+        self.lm(target, q, lock.map(|l| l.0), jac_out)
     }
 
     /// The first solution found: from `seed` (if any), then from random restarts, all joints
@@ -492,7 +533,7 @@ impl<'a> IkSolver<'a> {
         let mut rng = ChaCha8Rng::seed_from_u64(self.params.rng_seed);
         for _ in 0..self.params.restarts {
             let q = self.random(&mut rng);
-            if let Some(sol) = self.lm(target, q, None) {
+            if let Some(sol) = self.lm(target, q, None, None) {
                 return Some(sol);
             }
         }
@@ -527,7 +568,7 @@ impl<'a> IkSolver<'a> {
         let mut rng = ChaCha8Rng::seed_from_u64(self.params.rng_seed);
         for _ in 0..self.params.restarts {
             let q = self.random(&mut rng);
-            if let Some(sol) = self.lm(target, q, None) {
+            if let Some(sol) = self.lm(target, q, None, None) {
                 push(sol, &mut free);
             }
         }
@@ -621,20 +662,20 @@ impl<'a> IkSolver<'a> {
         }
         let mut dq = [0.0; MAX_DOF];
         for _pass in 0..=n {
-            let mut ja = *jac;
+            // Columns scaled by `scale`, inactive ones removed: J·W·Jᵀ with W = diag(scale²),
+            // and the step W·Jᵀ·y.
+            let mut w = [0.0; MAX_DOF];
             for i in 0..MAX_DOF {
-                if !active[i] {
-                    ja.column_mut(i).fill(0.0);
-                } else {
-                    ja.column_mut(i).scale_mut(scale[i]);
+                if active[i] {
+                    w[i] = scale[i] * scale[i];
                 }
             }
-            let Some(y) = damped_normal_solve(&ja, lambda, e) else {
+            let Some(y) = damped_normal_solve(jac, &w, lambda, e) else {
                 break;
             };
-            let mut step = ja.transpose() * y;
+            let mut step = jac.transpose() * y;
             for i in 0..MAX_DOF {
-                step[i] *= scale[i];
+                step[i] *= w[i];
             }
             let mut changed = false;
             for i in 0..n {
@@ -682,12 +723,14 @@ impl<'a> IkSolver<'a> {
         Some(self.trial(&x, &jac, &e, self.params.initial_damping, None))
     }
 
-    /// Box-constrained LM from `q` (inside the limits).
+    /// Box-constrained LM from `q` (inside the limits); on success the Jacobian at the
+    /// solution is copied into `jac_out`, if given.
     fn lm(
         &self,
         target: &IkTarget,
         mut q: [Real; MAX_DOF],
         locked: Option<usize>,
+        jac_out: Option<&mut Jacobian>,
     ) -> Option<IkSolution> {
         let n = self.model.dof();
         let chain = self.model.chain();
@@ -709,6 +752,9 @@ impl<'a> IkSolver<'a> {
                 checkpoint = err2;
             }
             if target.within(&tool, tp2, tan_ta) {
+                if let Some(out) = jac_out {
+                    *out = jac;
+                }
                 let (pe, ae) = target.errors(&tool);
                 return Some(IkSolution {
                     q,
@@ -744,6 +790,7 @@ impl<'a> IkSolver<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Matrix6;
 
     /// The convergence test without the arctangent agrees with the errors' test: poses
     /// around a target at distances and angles spread across the tolerances (pose and axis
@@ -808,7 +855,7 @@ mod tests {
             let lambda = (10.0 as Real).powf(rng.random_range(-12.0..0.0));
             let a: Matrix6<Real> = j * j.transpose() + Matrix6::identity() * lambda;
             let want = a.cholesky().expect("SPD").solve(&e);
-            let got = damped_normal_solve(&j, lambda, &e).expect("SPD");
+            let got = damped_normal_solve(&j, &[1.0; MAX_DOF], lambda, &e).expect("SPD");
             let scale = want.norm().max(1.0);
             let cond = 1.0 / lambda.min(1.0);
             assert!(
@@ -818,15 +865,49 @@ mod tests {
             assert!((a * got - e).norm() <= 1e-10 * scale * a.norm(), "{k}");
             if k % 4 == 0 {
                 assert!(
-                    damped_normal_solve(&j, 0.0, &e).is_none() || {
+                    damped_normal_solve(&j, &[1.0; MAX_DOF], 0.0, &e).is_none() || {
                         // Round-off may leave a tiny positive pivot: then the solve is huge.
-                        let y = damped_normal_solve(&j, 0.0, &e).unwrap();
+                        let y = damped_normal_solve(&j, &[1.0; MAX_DOF], 0.0, &e).unwrap();
                         y.norm() > 1e6
                     }
                 );
             }
         }
-        assert!(damped_normal_solve(&Jacobian::zeros(), 0.0, &Vector6::zeros()).is_none());
+        let zero = Jacobian::zeros();
+        assert!(damped_normal_solve(&zero, &[1.0; MAX_DOF], 0.0, &Vector6::zeros()).is_none());
+    }
+
+    /// With weights, the solve is that of the columns scaled by their square roots (zero
+    /// weights remove a column), against nalgebra's Cholesky solve of `J·W·Jᵀ + λ·I`.
+    #[test]
+    fn weighted_normal_solve_agrees_with_scaled_columns() {
+        let mut rng = ChaCha8Rng::seed_from_u64(22);
+        for k in 0..2_000 {
+            let j = Jacobian::from_fn(|_, _| rng.random_range(-1.0..1.0));
+            let mut w: [Real; MAX_DOF] = [0.0; MAX_DOF];
+            for (i, wi) in w.iter_mut().enumerate() {
+                // Every weight in (0, 1], one or two joints removed on some draws.
+                *wi = if (k + i) % 5 == 0 && k % 3 == 0 {
+                    0.0
+                } else {
+                    rng.random_range(0.01..=1.0)
+                };
+            }
+            let mut js = j;
+            for i in 0..MAX_DOF {
+                js.column_mut(i).scale_mut(w[i].sqrt());
+            }
+            let e = Vector6::from_fn(|_, _| rng.random_range(-1.0..1.0));
+            let lambda = (10.0 as Real).powf(rng.random_range(-8.0..0.0));
+            let a: Matrix6<Real> = js * js.transpose() + Matrix6::identity() * lambda;
+            let want = a.cholesky().expect("SPD").solve(&e);
+            let got = damped_normal_solve(&j, &w, lambda, &e).expect("SPD");
+            let scale = want.norm().max(1.0);
+            assert!(
+                (got - want).norm() <= 1e-11 * scale / lambda.min(1.0),
+                "{k}: {got} vs {want}"
+            );
+        }
     }
 
     /// Every count of [`IkParams`] is checked against [`crate::limits`] by [`IkSolver::new`]:

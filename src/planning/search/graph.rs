@@ -53,7 +53,7 @@
 //! docs, "Deferred segment tests").
 //!
 //! # Bound
-//! At most `planner.max_search_nodes` nodes (each ≈ 100 bytes, and the cell heads: one row of
+//! At most `planner.max_search_nodes` nodes (each ≈ 170 bytes with its null direction, and the cell heads: one row of
 //! buckets per slice with a node, a row of buckets × roll cells, at most `MAX_ROW_CELLS` heads of
 //! 4 bytes, per slice of more than `SPLIT_AT` nodes): a search that would create more stops and
 //! the ray is `undecided` (never a guessed class).
@@ -75,8 +75,9 @@ const LOAD: u8 = 2;
 const INSIDE: u8 = 1;
 const BACK: u8 = 0;
 
-/// Bytes per node, for the memory bound's message (node, bucket link, queue entry).
-pub(crate) const NODE_BYTES: usize = 112;
+/// Bytes per node, for the memory bound's message (node, null direction, bucket link, queue
+/// entry).
+pub(crate) const NODE_BYTES: usize = 168;
 
 /// Most buckets of the redundancy joint per slice: a finer merge radius gets wider buckets
 /// (never narrower than the radius, so a lookup scans three).
@@ -168,6 +169,9 @@ pub(crate) struct Graph {
     probe: Vec<bool>,
     /// Per node: the interior of the segment from its parent is not yet checked.
     unchecked: Vec<bool>,
+    /// Per node: its null direction, kept from the track that made it for its walks (NaN when
+    /// none was at hand; [`Linker::null_hint`]).
+    nulls: Vec<Q>,
     /// Probe entries in the queue.
     probing: usize,
     /// Rejected forward (load) moves per slice, by cause.
@@ -184,6 +188,17 @@ pub(crate) struct Graph {
     roll_period: Option<Real>,
     red: usize,
     dof: usize,
+}
+
+impl Rules {
+    /// Whether nodes of `slice` make moves inside it: with reconfiguration allowed, and always
+    /// at slice 0 (and at the first slice of a reverse search, to cover its valid set).
+    fn walks(&self, dir: Direction, slice: u32) -> bool {
+        match dir {
+            Direction::Forward => self.reconfigure || slice == 0,
+            Direction::Reverse { cap } => self.reconfigure || slice == 0 || slice == cap,
+        }
+    }
 }
 
 /// Which way a graph searches.
@@ -249,6 +264,7 @@ impl Graph {
             queue: BinaryHeap::new(),
             probe: Vec::new(),
             unchecked: Vec::new(),
+            nulls: Vec::new(),
             probing: 0,
             causes: vec![CauseCounts::default(); n_slices],
             farthest: 0,
@@ -406,6 +422,7 @@ impl Graph {
         self.probing += usize::from(probe);
         self.probe.push(probe);
         self.unchecked.push(false);
+        self.nulls.push([Real::NAN; crate::robot::MAX_DOF]);
         self.nodes.push(n);
         id
     }
@@ -483,11 +500,11 @@ impl Graph {
                 self.queue.push((false, slice, INSIDE, id));
             }
             INSIDE => {
-                let inside = match dir {
-                    Direction::Forward => rules.reconfigure || slice == 0,
-                    Direction::Reverse { cap } => rules.reconfigure || slice == 0 || slice == cap,
-                };
-                if inside {
+                if rules.walks(dir, slice) {
+                    let n = self.nulls[id as usize];
+                    if !n[0].is_nan() {
+                        linker.prime_null(&x.q, n);
+                    }
                     push(Move::Walk(1));
                     push(Move::Walk(-1));
                     if rules.roll {
@@ -570,6 +587,11 @@ impl Graph {
                 self.bridges.insert(nid, std::mem::take(&mut linker.bridge));
             } else {
                 self.unchecked[nid as usize] = rules.defer_segments;
+            }
+            if rules.walks(dir, y.slice) {
+                if let Some(n) = linker.null_hint(&y) {
+                    self.nulls[nid as usize] = n;
+                }
             }
             self.fresh.push(nid);
             if y.slice == goal {

@@ -93,7 +93,10 @@ pub(crate) struct Linker<'a> {
     slices: &'a Slices,
     solver: IkSolver<'a>,
     ws: CollisionWorkspace,
+    /// The Jacobian at `jac_at` (the end of the last successful track, or the last
+    /// configuration whose null direction was computed); `jac_at` is NaN when it holds none.
     jac: Jacobian,
+    jac_at: Q,
     /// The arm's joint limits.
     lower: Q,
     upper: Q,
@@ -130,6 +133,7 @@ impl<'a> Linker<'a> {
             solver: IkSolver::new(&planner.model, planner.ik.clone().tracking())?,
             ws: planner.collision.workspace(),
             jac: Jacobian::zeros(),
+            jac_at: [Real::NAN; crate::robot::MAX_DOF],
             lower: planner.model.lower(),
             upper: planner.model.upper(),
             step: planner.rig.planner.search_step,
@@ -146,11 +150,19 @@ impl<'a> Linker<'a> {
         &self.solver
     }
 
-    fn track(&self, target: &IkTarget, seed: &Q) -> Option<Q> {
+    /// One track from `seed`; its Jacobian at the end is kept ([`Linker::null_hint`]).
+    fn track(&mut self, target: &IkTarget, seed: &Q) -> Option<Q> {
         let dof = self.planner.dof;
-        let sol = self.solver.track(target, &seed[..dof], None)?;
+        let Some(sol) = self
+            .solver
+            .track_with_jacobian(target, &seed[..dof], None, &mut self.jac)
+        else {
+            self.jac_at[0] = Real::NAN;
+            return None;
+        };
         let mut q = [0.0; crate::robot::MAX_DOF];
         q[..dof].copy_from_slice(sol.joints());
+        self.jac_at = q;
         Some(q)
     }
 
@@ -355,11 +367,30 @@ impl<'a> Linker<'a> {
     /// a singularity.
     fn null_at(&mut self, q: &Q) -> Option<Q> {
         let dof = self.planner.dof;
-        self.planner
-            .model
-            .chain()
-            .jacobian(&q[..dof], &mut self.jac);
+        if self.jac_at != *q {
+            self.planner
+                .model
+                .chain()
+                .jacobian(&q[..dof], &mut self.jac);
+            self.jac_at = *q;
+        }
         fast_null_direction(&self.jac, dof).or_else(|| null_direction(&self.jac, dof))
+    }
+
+    /// The null direction at `y` when the last track ended there (its Jacobian is at hand:
+    /// no evaluation), for the caller to keep until `y`'s walks ([`Linker::prime_null`]);
+    /// `None` otherwise, or at a singularity.
+    pub fn null_hint(&mut self, y: &Config) -> Option<Q> {
+        if self.jac_at == y.q {
+            self.null_at(&y.q)
+        } else {
+            None
+        }
+    }
+
+    /// The null direction at `q`, kept from [`Linker::null_hint`], for the walks from `q`.
+    pub fn prime_null(&mut self, q: &Q, n: Q) {
+        self.null = Some((*q, n));
     }
 
     /// One predictor–corrector step of at most `h` from `q` along the null direction `n`
@@ -370,7 +401,7 @@ impl<'a> Linker<'a> {
     /// Where the line `q ± t·n` leaves the joint limits at t below a quarter of the smallest
     /// step tried (h / 2^`WALK_HALVINGS` / 4), nothing is tracked: every trial would be
     /// clamped onto the limit within that distance of `q` and refused as too short.
-    fn corrector(&self, target: &IkTarget, q: &Q, sign: Real, n: &Q, h: Real) -> Option<Q> {
+    fn corrector(&mut self, target: &IkTarget, q: &Q, sign: Real, n: &Q, h: Real) -> Option<Q> {
         let dof = self.planner.dof;
         let shortest = 0.25 * h / (1u32 << WALK_HALVINGS) as Real;
         if limit_exit(&self.lower, &self.upper, q, sign, n, dof) < shortest {
@@ -380,7 +411,7 @@ impl<'a> Linker<'a> {
     }
 
     /// The trials of [`Linker::corrector`]: h, h/2, …, h/2^`WALK_HALVINGS`, the first accepted.
-    fn halving_steps(&self, target: &IkTarget, q: &Q, sign: Real, n: &Q, h: Real) -> Option<Q> {
+    fn halving_steps(&mut self, target: &IkTarget, q: &Q, sign: Real, n: &Q, h: Real) -> Option<Q> {
         let dof = self.planner.dof;
         let bound = self.planner.rig.planner.max_joint_step;
         let mut h = h;
@@ -682,6 +713,45 @@ mod tests {
             skipped >= 20 && tracked >= 20 && accepted >= 10,
             "{skipped} skipped, {tracked} tracked ({accepted} accepted)"
         );
+    }
+
+    /// The null direction kept from a track's end ([`Linker::null_hint`]) is the one computed
+    /// afresh there, bit for bit (the search's node counts do not depend on where it came
+    /// from); at another configuration, or after a failed track, there is none.
+    #[test]
+    fn a_kept_null_direction_is_the_fresh_one() {
+        let (_, planner, slices, _) = super::super::slices::seed_ray_100(|_| {});
+        let mut linker = Linker::new(&planner, &slices).unwrap();
+        let set = planner.start(RollMode::Fixed).unwrap();
+        let (mut kept, mut last) = (0, None);
+        for node in set.comps.iter().flatten().step_by(3) {
+            let x = Config {
+                slice: 0,
+                q: node.q,
+                psi: 0.0,
+            };
+            let Ok(Some(Proposal::Step(y))) = linker.propose(&x, Move::Load, &|_| false) else {
+                continue;
+            };
+            let hint = linker.null_hint(&y).expect("a track ended at y");
+            let mut jac = Jacobian::zeros();
+            planner.model.chain().jacobian(&y.q[..7], &mut jac);
+            let fresh = fast_null_direction(&jac, 7)
+                .or_else(|| null_direction(&jac, 7))
+                .unwrap();
+            assert_eq!(hint, fresh);
+            assert!(linker.null_hint(&x).is_none());
+            kept += 1;
+            last = Some(y);
+        }
+        assert!(kept >= 10, "{kept}");
+        // A track that fails leaves no Jacobian: not even for the end of the one before.
+        let y = last.expect("a load step");
+        assert!(linker.null_hint(&y).is_some());
+        let mut beyond = slices.tip(&planner, 1, 0.0);
+        beyond.pos.x += 10.0;
+        assert!(linker.track(&IkTarget::Pose(beyond), &y.q).is_none());
+        assert!(linker.null_hint(&y).is_none());
     }
 
     /// The one-solve null direction equals the seven-minor one (same orientation).

@@ -121,7 +121,7 @@
 //! their sample.
 //!
 //! # Bounds
-//! At most `planner.max_search_nodes` nodes per ray (default 50,000; ≈ 112 bytes each, and at most 4 KB of
+//! At most `planner.max_search_nodes` nodes per ray (default 50,000; ≈ 168 bytes each, and at most 4 KB of
 //! bucket heads per slice a node lies on); a search that needs
 //! more reports the ray `undecided` ([`ReachClass::Undecided`]) with the farthest s found, never
 //! a guessed class. A rig whose self-motion step would need more nodes than the bound to cover
