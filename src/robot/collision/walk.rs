@@ -189,6 +189,13 @@ impl CollisionModel {
         for &(i, j) in &self.self_pairs {
             let (i, j) = (i as usize, j as usize);
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+            if V::SKIP_DISJOINT {
+                // Disjoint bounding balls: the test `intersects` makes first, without the call.
+                let r = bi.radius + bj.radius;
+                if (ws.posed[i].center - ws.posed[j].center).norm_squared() > r * r {
+                    continue;
+                }
+            }
             v.visit(
                 bi.owner.body_ref(),
                 &Part::Body(bi, &ws.posed[i]),
@@ -208,6 +215,12 @@ impl CollisionModel {
         for (o, op) in self.obstacles.iter().zip(&self.obstacle_posed) {
             let y = Part::Body(o, op);
             for (b, p) in self.bodies.iter().zip(&ws.posed) {
+                if V::SKIP_DISJOINT {
+                    let r = b.radius + o.radius;
+                    if (p.center - op.center).norm_squared() > r * r {
+                        continue;
+                    }
+                }
                 v.visit(
                     b.owner.body_ref(),
                     &Part::Body(b, p),
