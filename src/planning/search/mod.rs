@@ -128,19 +128,19 @@
 //! one slice is refused when the planner is made ([`check_resolution`]).
 //!
 //! # Cost
-//! A ray costs its nodes × about 1.5 tracks (3–4 Jacobian evaluations each) and 2 collision
+//! A ray costs its nodes × about 1.25 tracks (3–4 Jacobian evaluations each) and 1.5 collision
 //! tests (a node per self-motion step per slice of the pieces it visits, most made by a back-off
 //! or load step from the neighbouring slice; the move back to a node's parent slice is its own
 //! edge, not tracked). A ray one of whose probe chains passes costs about one node per slice.
 //! A partial ray costs its reachable piece, or the far piece if that one is exhausted first:
 //! cheap when either is small; when both are large regions of the strip below s* (different
 //! self-motion families, separated by joint limits; on the seed rig rays blocked just past
-//! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.21 s, about 7 µs per node; the count
+//! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.14 s, about 4.7 µs per node; the count
 //! goes as 1/`search_step`: 116,000 at 0.04), and those few rays dominate a sweep's CPU. In
 //! roll `motor` the pieces are 2-D per slice (self-motion × roll, a node per
-//! `search_step` × `ROLL_STEP`, thousands per slice; about 9 µs per node): on the seed rig
-//! about one quarter-sphere ray in ten exceeds the default bound of 50,000 nodes (≈ 0.45 s
-//! each, `undecided`), and most of those stay undecided at 1,000,000 (≈ 9 s each). Roll `fixed` rays
+//! `search_step` × `ROLL_STEP`, thousands per slice; about 7 µs per node): on the seed rig
+//! about one quarter-sphere ray in ten exceeds the default bound of 50,000 nodes (≈ 0.35 s
+//! each, `undecided`), and most of those stay undecided at 1,000,000 (≈ 7 s each). Roll `fixed` rays
 //! stay within about 31,000 nodes at the default `search_step`.
 //! Figures: `docs/RESULTS.md`.
 

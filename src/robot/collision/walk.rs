@@ -4,7 +4,10 @@
 //! [`CollisionModel`]'s pair order; then for each obstacle, every robot body; then for each rod
 //! segment (outside the ignored ends, clamp first), every robot body and, if asked, every
 //! obstacle. A [`Visit`] sees each pair once and may stop the walk: [`FirstHit`] stops at the
-//! first intersecting pair, [`Nearest`] keeps the first pair of smallest distance.
+//! first intersecting pair, [`Nearest`] keeps the first pair of smallest distance. A boolean
+//! visitor ([`Visit::SKIP_DISJOINT`]) is not shown the pairs whose bounding balls are disjoint:
+//! the walk tests the balls itself (most pairs of an arm's configuration are far apart), so the
+//! pair test is called only for the others.
 
 use super::narrow::{distance, intersects, Part};
 use super::{BodyRef, CollisionModel, CollisionWorkspace, Contact, RodGeometry};
