@@ -53,10 +53,10 @@
 //! docs, "Deferred segment tests").
 //!
 //! # Bound
-//! At most `planner.max_search_nodes` nodes (each ≈ 170 bytes with its null direction, and the cell heads: one row of
-//! buckets per slice with a node, a row of buckets × roll cells, at most `MAX_ROW_CELLS` heads of
-//! 4 bytes, per slice of more than `SPLIT_AT` nodes): a search that would create more stops and
-//! the ray is `undecided` (never a guessed class).
+//! At most `planner.max_search_nodes` nodes (each ≈ 168 bytes with its null direction, and the
+//! cell heads: one row of buckets per slice with a node, a row of buckets × roll cells, at most
+//! `MAX_ROW_CELLS` heads of 4 bytes, per slice of more than `SPLIT_AT` nodes): a search that
+//! would create more stops and the ray is `undecided` (never a guessed class).
 
 use super::linking::{Config, Linker, Move, Proposal, ROLL_STEP};
 use crate::math::Real;
