@@ -284,15 +284,14 @@ fn a_passage_the_contact_check_misses_is_caught_by_the_linking_number() {
     );
 }
 
-/// A regression: `helixreach bifurcation --fibonacci 150 --quarter` aborted at this direction
-/// (n = 100: "constrained minimization along the critical mode did not
-/// converge after 30 iterations (residual NaN)"). The reduction's constrained Newton judged
-/// convergence on its step alone, which the round-off of the stiff stretching force
-/// (`k_s = 10⁸`) divided by a soft eigenvalue never lets reach 1e-13; it now stops on the
-/// projected residual at that round-off floor, backtracks, and retries smaller amplitudes.
+/// A direction of `helixreach bifurcation --fibonacci 150 --quarter` (n = 100) where the
+/// round-off of the stiff stretching force (`k_s = 10⁸`) divided by a soft eigenvalue keeps the
+/// reduction's Newton step from ever reaching 1e-13: a convergence test on the step alone would
+/// abort ("did not converge after 30 iterations (residual NaN)"); the constrained Newton stops on
+/// the projected residual at that round-off floor, backtracks, and retries smaller amplitudes.
 /// The ray is decided, and by the reduction's own error estimate.
 #[test]
-fn the_direction_that_aborted_the_quarter_sphere_sweep_is_decided() {
+fn the_direction_at_the_round_off_floor_is_decided() {
     let d = Direction::new(0.8902337464436619, 0.23666666666666666, 0.3891950225552361).unwrap();
     let b = classify(&d, &params(100, 0.33)).unwrap();
     assert_ne!(b.kind, BifurcationType::Degenerate, "{b:?}");

@@ -375,8 +375,8 @@ fn straight_rod_limit(tau: f64, omega: f64) -> f64 {
     }
 }
 
-/// A regression: `boundary --method continuum` on `1e-160,1,0` returned s* = 1.3 with est_error
-/// 1e-15 (the limit is 2π): `det J = O(κ²)` underflowed. Every representable κ̂ > 0 — the decades
+/// Tiny κ̂, where `det J = O(κ²)` underflows (evaluated literally, `1e-160,1,0` gives s* = 1.3 with
+/// est_error 1e-15; the limit is 2π). Every representable κ̂ > 0 — the decades
 /// 10⁻¹ … 10⁻³⁰⁰, the smallest normal and subnormals down to the smallest f64 — gives a result
 /// right to its `est_error` (plus the O(κ̂²) distance to the limit): against direct RK integration
 /// where κ̂ is large enough for it (κ̂ ≥ 1e-3), against the independent straight-rod limit

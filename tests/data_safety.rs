@@ -955,9 +955,9 @@ fn huge_numbers_print_compactly_in_errors() {
 }
 
 /// Instant items followed by costly ones (a layout: placements ruled out at once, then planned
-/// rays) still checkpoint on time: before the fix the instant items sized one batch of every
-/// remaining item, which then ran without a checkpoint or a progress line (a seed layout sat
-/// silent for minutes).
+/// rays) still checkpoint on time: batches sized by the instant items alone would hold every
+/// remaining item and run without a checkpoint or a progress line (a seed layout silent for
+/// minutes).
 #[test]
 fn checkpoints_stay_on_time_when_items_turn_costly() {
     let dir = tempfile::tempdir().unwrap();

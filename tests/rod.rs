@@ -656,11 +656,11 @@ fn der_errors(d: &Direction, ns: &[usize]) -> Vec<Real> {
         .collect()
 }
 
-/// A regression: near the τ axis DER statics returned s* = ∞ ((0.01, 1, 0)) or a far wrong value
-/// (+126 % at every n on (0.0103, −0.6407, 0.7677), the 2,000-direction half-sphere's #20): the
-/// penalized rod (k_s = 10⁶) could not carry the helix's compression, and cold Newton starts
-/// near s* landed on other equilibria. Now both converge to the continuum (the Euler column 2π
-/// on the first), at second order where the discretization error is above the penalty's ~10⁻⁶.
+/// Near the τ axis the rod carries the helix's compression (a penalized, extensible rod cannot,
+/// and cold Newton starts near s* land on other equilibria there): on (0.01, 1, 0) and on
+/// (0.0103, −0.6407, 0.7677) (the 2,000-direction half-sphere's #20) DER statics converges to the
+/// continuum (the Euler column 2π on the first), at second order where the discretization error
+/// is above the penalty's ~10⁻⁶.
 #[test]
 fn der_near_tau_axis_converges_to_the_continuum() {
     let e = der_errors(&Direction::new(0.01, 1.0, 0.0).unwrap(), &[25, 50]);
@@ -670,9 +670,9 @@ fn der_near_tau_axis_converges_to_the_continuum() {
     assert!(e[1].abs() < 5e-4 && (3.3..5.5).contains(&ratio), "{e:?}");
 }
 
-/// The κ → 0 band: (8.6e-6, 1, 0) was refused by the extensibility guard
-/// (κ̂ ≲ 3e-3 near the τ axis) and (0.0018, 0.6084, −0.7936) (the 2,000-direction half-sphere's)
-/// stalled in the augmented Lagrangian. The inextensible rod by KKT Newton converges on the sweep
+/// The κ → 0 band, where an extensibility guard would refuse (κ̂ ≲ 3e-3 near the τ axis, e.g.
+/// (8.6e-6, 1, 0)) and an augmented Lagrangian stalls (e.g. (0.0018, 0.6084, −0.7936), of the
+/// 2,000-direction half-sphere). The inextensible rod by KKT Newton converges on the sweep
 /// κ̂ = 10⁻² … 10⁻⁶ toward the τ axis (limit: the clamped Euler column, s* → 2π) and toward
 /// (0, ±0.6, −0.8) (limit: the straight rod under the helix's compression and twisting moment,
 /// the continuum's `straight_rod_limit` in `tests/boundary.rs`): s* within its est_error of the
@@ -857,12 +857,11 @@ fn der_order_two_on_hard_directions() {
     }
 }
 
-/// At n = 25 the direction (0.175, −0.366, −0.914) was 55 % off with an est_error of
-/// 1e-8 (root finding only): the frames turn 1.4 rad per edge there. At n = 25 it is now
-/// refused by the resolution guard (naming the n needed); from n = 50 on the est_error includes
-/// the discretization bound and covers the actual error, and from n = 100 on it is useful
-/// (below 12 %: 10.9 % at n = 100 since `DISCRETIZATION_COEFF` rose from 0.6 to 1.0 for the
-/// large-s* band; the actual error there is 1.4 %).
+/// On (0.175, −0.366, −0.914) the frames turn 1.4 rad per edge at n = 25, where a root-finding
+/// error alone (1e-8) would hide a 55 % discretization error: at n = 25 the direction is refused
+/// by the resolution guard (naming the n needed); from n = 50 on the est_error includes the
+/// discretization bound and covers the actual error, and from n = 100 on it is useful (below
+/// 12 %: 10.9 % at n = 100 with `DISCRETIZATION_COEFF` 1.0; the actual error there is 1.4 %).
 #[test]
 fn der_n25_outlier_est_error_covers_the_discretization_error() {
     use helixreach::boundary::continuum;
@@ -887,13 +886,12 @@ fn der_n25_outlier_est_error_covers_the_discretization_error() {
     }
 }
 
-/// With the stiff stretching penalty (k_s = 10⁸) Newton's basin was tiny, predicted
-/// starts near s* failed and the failures counted as "unstable": at n = 100 these directions
-/// were −1.0 %, −1.5 % and −1.0 % off while n = 50 and 200 were within 10⁻⁴, and
-/// (0.2248, −0.9743, 0.0168) stalled with an error. With the augmented-Lagrangian
-/// inextensibility they converge at second order through n = 100.
+/// Directions where a stiff stretching penalty (k_s = 10⁸) leaves Newton a tiny basin (predicted
+/// starts near s* fail and would count as "unstable": −1.0 %, −1.5 % and −1.0 % off at n = 100,
+/// and a stall on (0.2248, −0.9743, 0.0168)): with the augmented-Lagrangian inextensibility they
+/// converge at second order through n = 100.
 #[test]
-fn der_n100_is_right_where_newton_used_to_fail() {
+fn der_n100_converges_where_a_stiff_penalty_fails() {
     for v in [
         [0.3242, -0.9423, 0.0830],
         [0.5527, 0.7485, -0.3664],
@@ -912,7 +910,7 @@ fn der_n100_is_right_where_newton_used_to_fail() {
 
 /// A truth defect: on the large-s* band κ̂ ≲ 0.08, |ω̂| ≈ 0.9 the discrete rod at
 /// n = 100 is far from its asymptotic regime ((0.0328, 0.4693, 0.8824): continuum s* = 96.65,
-/// DER 70.3 ± 17, 27 % off, was written as a number). At n = 100 it is now an error naming the
+/// DER 70.3 ± 17, 27 % off, if written as a number). At n = 100 it is an error naming the
 /// n needed (1.24 rad per edge); from n = 200 on the result is within its est_error of the
 /// continuum (12 % off at n = 200 with an est_error of 38 %, 1.2 % at n = 800); and on
 /// (0.035, 0.4236, 0.9052) at n = 200 (143.5 against 92.87, pre-asymptotic) the check

@@ -225,7 +225,7 @@ impl<'a> Linker<'a> {
                     if tracked.is_some() {
                         return Err(BlockCause::Discontinuity);
                     }
-                    let (lo, hi) = (self.planner.model.lower(), self.planner.model.upper());
+                    let (lo, hi) = (&self.lower, &self.upper);
                     let near = (0..self.planner.dof)
                         .any(|j| x.q[j] - lo[j] < bound || hi[j] - x.q[j] < bound);
                     return Err(if near {
