@@ -22,7 +22,7 @@
 use super::extrinsics::{fit_extrinsics, ExtrinsicsFit};
 use super::jump::Scanner;
 use super::observations::{flag_at, SampleFlag, OUTLIER_HALF_WINDOW};
-use super::projection::PoseCurve;
+use super::projection::{PoseCurve, Tracker};
 use super::{deviation, Detector};
 use crate::directions::Direction;
 use crate::error::{Error, Result};
@@ -58,7 +58,7 @@ pub struct StreamingDetector<'a> {
     det: &'a Detector,
     curve: PoseCurve,
     fit_limit: Real,
-    prev: Option<(Real, Real)>,
+    tracker: Tracker,
     s: Vec<Real>,
     off_path: Vec<bool>,
     present: Vec<Option<Vec3>>,
@@ -95,7 +95,7 @@ impl<'a> StreamingDetector<'a> {
             det,
             curve: det.curve(dir, Vec3::from(clamp)),
             fit_limit: det.options.fit_fraction * s_pred,
-            prev: None,
+            tracker: Tracker::new(),
             s: Vec::new(),
             off_path: Vec::new(),
             present: Vec::new(),
@@ -133,12 +133,11 @@ impl<'a> StreamingDetector<'a> {
         let joints_ok = joints.iter().all(|x| x.is_finite());
         let (s, off) = if joints_ok {
             let (rot, pos) = self.det.tool_pose(joints);
-            let (s, _) = self.curve.project(&rot, &pos, self.prev)?;
-            let (_, dp, dr) = self.curve.objective(s, &rot, &pos)?;
-            self.prev = Some((s, self.prev.map_or(0.0, |(s0, _)| (s - s0).abs())));
+            let p = self.tracker.project(&self.curve, &rot, &pos)?;
             (
-                s,
-                !(dp <= o.max_position_error && dr <= o.max_rotation_error),
+                p.s,
+                !(p.position_error <= o.max_position_error
+                    && p.rotation_error <= o.max_rotation_error),
             )
         } else {
             (Real::NAN, false)
