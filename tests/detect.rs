@@ -10,6 +10,7 @@ use helixreach::detect::stream::{StreamEvent, StreamingDetector};
 use helixreach::detect::{projection, DetectOptions, Detector};
 use helixreach::directions::Direction;
 use helixreach::math::{rotation_angle, so3_exp, Mat3, Real, Vec3};
+use helixreach::planning::pose_projection::{ToolPoseCurve, Tracker};
 use helixreach::planning::rig::Rig;
 use helixreach::records::detect::{parse_observations, ObservationFile};
 use rand::{Rng, SeedableRng};
@@ -411,7 +412,7 @@ fn tracking_a_real_run_finds_the_global_minimum_and_rescans_only_off_the_curve()
     ] {
         let obs = seed_run(name);
         let curve = det.curve(&dir, Vec3::from(CLAMP));
-        let mut tracker = projection::Tracker::new();
+        let mut tracker = Tracker::new();
         let mut above_lost = 0;
         let mut lost = 0;
         let mut n = 0;

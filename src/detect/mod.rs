@@ -103,7 +103,7 @@ pub struct SampleResult {
     /// Loading (true) or unloading.
     pub loading: bool,
     /// The projection.
-    pub projected: projection::Projected,
+    pub projected: crate::planning::pose_projection::Projected,
     /// The marker error (None when the marker is unusable).
     pub marker: Option<deviation::MarkerError>,
     /// The flag.

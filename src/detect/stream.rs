@@ -22,11 +22,12 @@
 use super::extrinsics::{fit_extrinsics, ExtrinsicsFit};
 use super::jump::Scanner;
 use super::observations::{flag_at, SampleFlag, OUTLIER_HALF_WINDOW};
-use super::projection::{PoseCurve, Tracker};
+use super::projection::PoseCurve;
 use super::{deviation, Detector};
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::math::{Real, Vec3};
+use crate::planning::pose_projection::Tracker;
 
 /// What a pushed sample completed.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -21,33 +21,26 @@
 //!   self and scene collision at interior samples (reported apart, as `segment_collisions`: how
 //!   a controller moves between two rows is not in the file).
 //! - **Pose** (with a direction): the row's tool pose T(q) by FK is projected onto the ray's pose
-//!   curve s ↦ (p(s), R(s)) ([`crate::planning::pose_path::PoseMap`], the rig's azimuth): s minimizes
-//!   `|p(s) − p|² / L² + θ(s)²` (θ the angle of R(s)ᵀ·R, L the rod length). The first row scans
-//!   [0, `s_max`] every [`SCAN_STEP`]; each later row scans a window around the previous row's s
-//!   (continuity; the window is widened to a full scan when the local minimum is worse than
-//!   [`LOST_TRACK`]); the best grid point is refined by golden-section search to 1e-10 in s.
-//!   The position error |p(s) − p| and rotation error θ(s) at that s are reported per row.
+//!   curve s ↦ (p(s), R(s)) ([`crate::planning::pose_path::PoseMap`], the rig's azimuth; or the
+//!   frame of the last of `held_edges` edges of a discrete helix): the rows are tracked along
+//!   it in file order ([`crate::planning::pose_projection`]; a row's `s` column, when the file
+//!   has one, is taken as it is). The position error |p(s) − p| and rotation error θ(s) at that
+//!   s are reported per row.
 
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::helix::discrete::fill_nodes;
 use crate::helix::Helix;
-use crate::math::{rot_z, rotation_angle, Iso3, Mat3, Real, Vec3};
+use crate::math::{rot_z, Mat3, Real, Vec3};
 use crate::planning::pose_path::PoseMap;
-use crate::planning::rig::{iso_from, tool_from_director, Rig, RobotSpec};
+use crate::planning::pose_projection::{ToolPoseCurve, Tracker};
+use crate::planning::rig::{tool_from_director, Rig, RobotSpec};
 use crate::robot::collision::{BodyRef, Contact};
 use crate::robot::{CollisionModel, CollisionWorkspace, Frame, RobotModel};
 use std::path::{Path, PathBuf};
 
 /// A joint step larger than this (rad, any joint) is a jump.
 pub const JUMP: Real = 0.2;
-/// Grid step in s of the full scan of the pose projection.
-pub const SCAN_STEP: Real = 0.01;
-/// A local projection whose objective (`|Δp|²/L² + θ²`) exceeds this square is retried with a
-/// full scan (≈ 5 mm on a 0.5 m rod, or 10 mrad).
-pub const LOST_TRACK: Real = 1e-4;
-/// Golden-section tolerance in s of the pose projection.
-pub const S_TOLERANCE: Real = 1e-8;
 /// Largest `held_edges` of [`CheckOptions`].
 pub const MAX_HELD_EDGES: usize = 10_000;
 /// At most this many entries in each list of the report (limit violations, collision rows).
@@ -438,12 +431,15 @@ struct Projector {
     oc: Vec3,
 }
 
-impl Projector {
-    /// The curve's tool pose at s.
-    fn pose(&mut self, s: Real) -> Result<Iso3> {
+impl ToolPoseCurve for Projector {
+    fn tool_pose(&self, s: Real) -> Result<(Mat3, Vec3)> {
         let kto = [s * self.dir[0], s * self.dir[1], s * self.dir[2]];
         if self.held_edges == 0 {
-            return Ok(self.map.end(kto)?.0);
+            let pose = self.map.end(kto)?.0;
+            return Ok((
+                pose.rotation.to_rotation_matrix().into_inner(),
+                pose.translation.vector,
+            ));
         }
         // The seed's target: the end at node n, the frame of the last edge — whose frame is
         // the transported frame at the edge's mid arc length 1 − 1/(2n) to O(1/n²)
@@ -451,74 +447,15 @@ impl Projector {
         let h = Helix::new(kto[0], kto[1], kto[2])?;
         let d = h.transported_frame(1.0 - 0.5 / self.held_edges as Real);
         let p = self.oc + self.rc * (h.position(1.0) * self.length);
-        Ok(iso_from(
-            &(self.rc * d * self.az_inv * tool_from_director()),
-            &p,
-        ))
+        Ok((self.rc * d * self.az_inv * tool_from_director(), p))
     }
 
-    /// The objective at s and the (position, rotation) errors.
-    fn eval(&mut self, s: Real, target: &Iso3) -> Result<(Real, Real, Real)> {
-        let pose = self.pose(s)?;
-        let dp = (pose.translation.vector - target.translation.vector).norm();
-        let dr = rotation_angle(
-            &(pose.rotation.inverse() * target.rotation)
-                .to_rotation_matrix()
-                .into_inner(),
-        );
-        Ok(((dp / self.length).powi(2) + dr * dr, dp, dr))
+    fn length(&self) -> Real {
+        self.length
     }
 
-    /// Best s on `n + 1` grid points over [lo, hi], refined by golden section.
-    fn search(&mut self, lo: Real, hi: Real, n: usize, target: &Iso3) -> Result<(Real, Real)> {
-        let h = (hi - lo) / n as Real;
-        let (mut best, mut fbest) = (lo, Real::INFINITY);
-        for k in 0..=n {
-            let s = lo + h * k as Real;
-            let f = self.eval(s, target)?.0;
-            if f < fbest {
-                (best, fbest) = (s, f);
-            }
-        }
-        // Golden section on the grid cell pair around the best point.
-        let (mut a, mut b) = ((best - h).max(lo), (best + h).min(hi));
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let mut c = b - g * (b - a);
-        let mut d = a + g * (b - a);
-        let (mut fc, mut fd) = (self.eval(c, target)?.0, self.eval(d, target)?.0);
-        while b - a > S_TOLERANCE {
-            if fc < fd {
-                (b, d, fd) = (d, c, fc);
-                c = b - g * (b - a);
-                fc = self.eval(c, target)?.0;
-            } else {
-                (a, c, fc) = (c, d, fd);
-                d = a + g * (b - a);
-                fd = self.eval(d, target)?.0;
-            }
-        }
-        let s = 0.5 * (a + b);
-        let f = self.eval(s, target)?.0;
-        Ok(if f <= fbest { (s, f) } else { (best, fbest) })
-    }
-
-    /// The s of `target`, continuing from `prev = (s, |Δs|)` when given.
-    fn project(&mut self, target: &Iso3, prev: Option<(Real, Real)>) -> Result<Real> {
-        let n_full = (self.s_max / SCAN_STEP).ceil().max(1.0) as usize;
-        let Some((s0, ds)) = prev else {
-            return Ok(self.search(0.0, self.s_max, n_full, target)?.0);
-        };
-        let w = (4.0 * ds).max(0.05);
-        let local = self.search((s0 - w).max(0.0), (s0 + w).min(self.s_max), 10, target)?;
-        if local.1 <= LOST_TRACK {
-            return Ok(local.0);
-        }
-        let global = self.search(0.0, self.s_max, n_full, target)?;
-        Ok(if global.1 < local.1 {
-            global.0
-        } else {
-            local.0
-        })
+    fn s_max(&self) -> Real {
+        self.s_max
     }
 }
 
@@ -582,7 +519,7 @@ pub fn check_trajectory(
             format!("must be <= {MAX_HELD_EDGES}"),
         ));
     }
-    let mut projector = opt.direction.map(|d| Projector {
+    let projector = opt.direction.map(|d| Projector {
         map: PoseMap::new(rig, opt.azimuth),
         dir: [d.kappa, d.tau, d.omega],
         length: rig.rod.length,
@@ -637,7 +574,7 @@ pub fn check_trajectory(
         min_clearance_pairs: [None, None],
         row_checks: Vec::new(),
     };
-    let mut prev_s: Option<(Real, Real)> = None;
+    let mut tracker = Tracker::new();
     let max_of = |cur: &mut Option<(Real, usize)>, v: Real, i: usize| {
         if cur.is_none_or(|(m, _)| v > m) {
             *cur = Some((v, i));
@@ -723,14 +660,18 @@ pub fn check_trajectory(
         }
         // Pose and the rod of this row.
         let mut rod_geom = None;
-        if let Some(pr) = projector.as_mut() {
-            let fk = model.chain().tool_pose(q).mul(&tool).to_iso();
-            let s = match &traj.s {
-                Some(ss) => ss[i],
-                None => pr.project(&fk, prev_s)?,
+        if let Some(pr) = projector.as_ref() {
+            let fk = model.chain().tool_pose(q).mul(&tool);
+            let (s, dp, dr) = match &traj.s {
+                Some(ss) => {
+                    let (_, dp, dr) = pr.objective(ss[i], &fk.rot, &fk.pos)?;
+                    (ss[i], dp, dr)
+                }
+                None => {
+                    let p = tracker.project(pr, &fk.rot, &fk.pos)?;
+                    (p.s, p.position_error, p.rotation_error)
+                }
             };
-            let (_, dp, dr) = pr.eval(s, &fk)?;
-            prev_s = Some((s, prev_s.map_or(0.0, |(s0, _)| (s - s0).abs())));
             row.s = Some(s);
             row.position_error = Some(dp);
             row.rotation_error = Some(dr);

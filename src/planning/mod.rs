@@ -5,6 +5,7 @@
 //! | [`rig`] | the rig TOML schema, its validation, embedded rigs |
 //! | [`rig_init`] | a first commented rig for any URDF arm, the clamp placed where it holds the rod |
 //! | [`pose_path`] | a ray (S̄, α) as rod-end poses in the base frame, adaptive in s |
+//! | [`pose_projection`] | a measured tool pose's s on a ray: a run's samples tracked along its pose curve |
 //! | [`planner`] | the planner of one ray: robot, collision model, start set, validity; the decision by `planner.search` |
 //! | [`search`] | the decision of one ray by a search of its valid set: a path or a certificate (the default) |
 //! | [`ladder`] | the decision by rungs of tracked IK solutions and dynamic programming (`--search ladder`, the peer) |
@@ -36,6 +37,7 @@ pub mod check;
 pub mod ladder;
 pub mod planner;
 pub mod pose_path;
+pub mod pose_projection;
 pub mod rig;
 pub mod rig_init;
 pub mod rig_write;
