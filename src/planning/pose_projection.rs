@@ -12,8 +12,9 @@
 //! three points around it (moved inside the interval at its ends): the best of the points and
 //! the parabola's vertex is kept and the spacing shrunk 8-fold, until the vertex of a stencil
 //! finer than the grid lies within [`S_TOL`] of the best point, or the spacing is below it (the
-//! objective is smooth and locally quadratic in s). On the seed's 58 executed trajectories (117,318 rows) the s found agrees
-//! with a golden-section search to 1e-8 within 1.3·10⁻⁷, the position error within 0.03 µm.
+//! objective is smooth and locally quadratic in s). On the seed's 58 executed trajectories
+//! (117,318 rows) the s found agrees with a golden-section search to 1e-8 within 1.3·10⁻⁷, the
+//! position error within 0.03 µm.
 //!
 //! The track is **lost**, and `[0, s_max]` is scanned every [`SCAN_STEP`] (the better of the
 //! two minima kept), at the first sample and when the window's minimum
