@@ -109,47 +109,55 @@ fn search<C: ToolPoseCurve + ?Sized>(
 ) -> Result<Minimum> {
     let h = (hi - lo) / n as Real;
     let (mut best, mut fbest, mut kbest) = (lo, (Real::INFINITY, 0.0, 0.0), 0);
-    let mut f = [0.0; 3];
-    let mut prev = [Real::INFINITY; 2];
+    // The grid neighbours of the best point, for the first parabolic step.
+    let mut nb = [None; 2];
+    let mut prev = None;
     for k in 0..=n {
         let s = lo + h * k as Real;
         let fk = curve.objective(s, rot, pos)?;
         if fk.0 < fbest.0 {
             (best, fbest, kbest) = (s, fk, k);
-            f = [prev[1], fk.0, Real::INFINITY];
+            nb = [prev, None];
         } else if k == kbest + 1 {
-            f[2] = fk.0;
+            nb[1] = Some(fk);
         }
-        prev = [prev[1], fk.0];
+        prev = Some(fk);
     }
     // Parabolic steps through three points around the best (moved inside [lo, hi] at an end);
     // the best of the points and the vertex is kept and the spacing shrunk 8-fold each round.
     let (mut c, mut fc, mut step) = (best, fbest, h);
-    let mut known = (f[0], f[2]);
-    for _ in 0..REFINE_ROUNDS {
+    for round in 0..REFINE_ROUNDS {
         if hi - lo < 2.0 * step || step < S_TOL {
             break;
         }
-        let x0 = (c - step).clamp(lo, hi - 2.0 * step);
-        let x = [x0, x0 + step, x0 + 2.0 * step];
-        let mut fx = [(0.0, 0.0, 0.0); 3];
-        for (k, &xk) in x.iter().enumerate() {
-            fx[k] = match k {
-                _ if xk == c => fc,
-                0 if xk == c - step && known.0.is_finite() => (known.0, Real::NAN, Real::NAN),
-                2 if xk == c + step && known.1.is_finite() => (known.1, Real::NAN, Real::NAN),
-                _ => curve.objective(xk, rot, pos)?,
+        let centred = c - step >= lo && c + step <= hi;
+        let x = if centred {
+            [c - step, c, c + step]
+        } else {
+            let x0 = (c - step).clamp(lo, hi - 2.0 * step);
+            [x0, x0 + step, x0 + 2.0 * step]
+        };
+        let mut fx = [fc; 3];
+        for k in 0..3 {
+            let known = match (round, centred, k) {
+                (_, _, _) if x[k] == c => Some(fc),
+                (0, true, 0) => nb[0],
+                (0, true, 2) => nb[1],
+                _ => None,
+            };
+            fx[k] = match known {
+                Some(v) => v,
+                None => curve.objective(x[k], rot, pos)?,
             };
         }
-        known = (Real::NAN, Real::NAN);
-        // The vertex of the parabola through the three points (equal spacing), where it opens
-        // upward; the best of it and the points (a grid neighbour is never better than c).
-        let den = fx[0].0 - 2.0 * fx[1].0 + fx[2].0;
+        // The best of the points, then the vertex of the parabola through them (equal
+        // spacing) where it opens upward.
         for k in 0..3 {
-            if fx[k].0 < fc.0 && !fx[k].1.is_nan() {
+            if fx[k].0 < fc.0 {
                 (c, fc) = (x[k], fx[k]);
             }
         }
+        let den = fx[0].0 - 2.0 * fx[1].0 + fx[2].0;
         if den > 0.0 {
             let v = (x[1] + 0.5 * step * (fx[0].0 - fx[2].0) / den).clamp(x[0], x[2]);
             if step < h && (v - c).abs() < S_TOL {
