@@ -20,9 +20,10 @@
 use crate::directions::Direction;
 use crate::error::{Error, Result};
 use crate::helix::Helix;
-use crate::math::{rot_z, Mat3, Real, Vec3};
+use crate::math::{Mat3, Real, Vec3};
+use crate::planning::pose_path::PoseMap;
 use crate::planning::pose_projection::{Projected, ToolPoseCurve, Tracker};
-use crate::planning::rig::{tool_from_director, Rig};
+use crate::planning::rig::Rig;
 use std::path::Path;
 
 /// Largest fall of s during loading (rise during unloading), as a fraction of the largest s.
@@ -31,10 +32,8 @@ pub const MONOTONE_TOL: Real = 0.05;
 /// The ray's tool-pose curve for one clamp position.
 #[derive(Debug, Clone)]
 pub struct PoseCurve {
-    /// `R_c·Rz(α)`.
-    rca: Mat3,
-    /// `Rz(−α)·P`.
-    tail: Mat3,
+    /// The rig's helix-to-pose map at the azimuth (its own clamp origin unused).
+    map: PoseMap,
     /// Clamp origin (m).
     pub origin: Vec3,
     /// Rod length (m).
@@ -50,8 +49,7 @@ impl PoseCurve {
     /// helix azimuth `azimuth`, searched on `[0, s_max]`.
     pub fn new(rig: &Rig, dir: &Direction, origin: Vec3, azimuth: Real, s_max: Real) -> Self {
         PoseCurve {
-            rca: rig.clamp_rotation() * rot_z(azimuth),
-            tail: rot_z(-azimuth) * tool_from_director(),
+            map: PoseMap::new(rig, azimuth),
             origin,
             length: rig.rod.length,
             dir: [dir.kappa, dir.tau, dir.omega],
@@ -59,23 +57,27 @@ impl PoseCurve {
         }
     }
 
+    fn kto(&self, s: Real) -> [Real; 3] {
+        [s * self.dir[0], s * self.dir[1], s * self.dir[2]]
+    }
+
     /// The helix at s.
     pub fn helix(&self, s: Real) -> Result<Helix> {
-        Helix::new(s * self.dir[0], s * self.dir[1], s * self.dir[2])
+        let [k, t, o] = self.kto(s);
+        Helix::new(k, t, o)
     }
 
     /// The helix end relative to the clamp, in the base frame's orientation: `R_c·Rz(α)·r(1)·L`
-    /// and the tool rotation `R(s)`.
+    /// and the tool rotation `R(s)` ([`PoseMap::end_offset`]).
     pub fn end_relative(&self, s: Real) -> Result<(Vec3, Mat3)> {
-        let e = self.helix(s)?.end_pose_unchecked(self.length, 1.0);
-        Ok((self.rca * e.position, self.rca * e.transported * self.tail))
+        let (offset, r, _) = self.map.end_offset(self.kto(s))?;
+        Ok((offset, r))
     }
 
     /// The point at arc length `sigma` (fraction of the rod from the clamp) of the helix at s,
     /// base frame (m).
     pub fn point(&self, s: Real, sigma: Real) -> Result<Vec3> {
-        let h = self.helix(s)?;
-        Ok(self.origin + self.rca * (h.position(sigma) * self.length))
+        Ok(self.origin + self.map.point_offset(&self.helix(s)?, sigma))
     }
 }
 

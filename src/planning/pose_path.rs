@@ -79,12 +79,25 @@ impl PoseMap {
 
     /// The helix at `kto` and its waypoint data: (tool pose, motor angle).
     pub fn end(&self, kto: [Real; 3]) -> Result<(Iso3, Real)> {
+        let (offset, r, motor) = self.end_offset(kto)?;
+        Ok((iso_from(&r, &(self.oc + offset)), motor))
+    }
+
+    /// The helix end at `kto` relative to the clamp: its offset `R_c·Rz(α)·r(1)·L` from the clamp
+    /// origin (base frame, m), the transported tool rotation `R_c·D_α·P` and the fixed-mode
+    /// motor angle (rad). A clamp placed elsewhere (a fitted clamp) adds its own origin.
+    pub fn end_offset(&self, kto: [Real; 3]) -> Result<(Vec3, Mat3, Real)> {
         let h = Helix::new(kto[0], kto[1], kto[2])?;
         let e = h.end_pose_unchecked(self.length, self.c);
         let d = self.az * e.transported * self.az.transpose();
-        let p = self.oc + self.rc * (self.az * e.position);
         let r = self.rc * d * tool_from_director();
-        Ok((iso_from(&r, &p), e.motor_angle))
+        Ok((self.rc * (self.az * e.position), r, e.motor_angle))
+    }
+
+    /// The point of `helix` at fraction `sigma` of the rod from the clamp, relative to the clamp
+    /// origin (base frame, m).
+    pub fn point_offset(&self, helix: &Helix, sigma: Real) -> Vec3 {
+        self.rc * (self.az * (helix.position(sigma) * self.length))
     }
 
     /// The rod centerline at `kto` as `n + 1` points in the base frame (s = i/n along the rod).
