@@ -180,9 +180,9 @@ pub(crate) struct Graph {
     pub farthest: u32,
     /// Nodes made by the last [`Graph::step`].
     pub fresh: Vec<u32>,
-    /// Per node reached by a bridged move ([`super::linking::Proposal::Bridged`]): the poses
-    /// and configurations between its parent and it, from the parent's side.
-    pub bridges: std::collections::HashMap<u32, Vec<(Waypoint, Q)>>,
+    /// Per node reached by a bridged move ([`super::linking::Proposal::Bridged`]): the poses,
+    /// configurations and arm rolls between its parent and it, from the parent's side.
+    pub bridges: std::collections::HashMap<u32, Vec<(Waypoint, Q, Real)>>,
     merge_q: Real,
     /// The period of the arm roll ψ in the merge rule (`Some(2π)` when the motor turns freely).
     roll_period: Option<Real>,

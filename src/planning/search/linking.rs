@@ -25,7 +25,13 @@
 //!   bound, each one such step from the last with its end and segment checked, the chain
 //!   ending at its last accepted point ([`Linker::walk`]).
 //! - **Roll** (inside slice i, roll `motor` only): ψ ± `ROLL_STEP` tracked from q at the same
-//!   rod-end pose (the motor turns the other way, m = ω/c − ψ).
+//!   rod-end pose (the motor turns the other way, m = ω/c − ψ). The last joint turns by about
+//!   the roll step, sometimes a little more: where the single track exceeds
+//!   `planner.max_joint_step` (on the seed rig about one roll step in nine at its bound 0.05
+//!   rad, and every one at 0.03 rad) or does not converge, the move is a chain of up to
+//!   `ROLL_MAX_SUB` equal sub-rolls, each within `WALK_SUB_FRACTION` of the bound where the
+//!   single step's joint motion is spread evenly, its end and segment checked
+//!   ([`Linker::roll_chain`]), so a joint-step bound below the roll step keeps the roll.
 //!
 //! A load or roll move whose predictor — the track's first trial ([`IkSolver::predict`], one
 //! Jacobian and one 6×6 solve; the track's end is second-order close to it) — lies on a known
@@ -58,6 +64,11 @@ const WALK_HALVINGS: usize = 3;
 
 /// Roll step of the moves inside a slice in roll `motor` (rad).
 pub(crate) const ROLL_STEP: Real = 0.05;
+
+/// Most sub-rolls of a chained roll move ([`Linker::roll_chain`]): a roll step that turns the
+/// joints by more than this many times `WALK_SUB_FRACTION`·`planner.max_joint_step` is refused
+/// as a discontinuity.
+const ROLL_MAX_SUB: usize = 4;
 
 /// Least |det A| (m³: three rows of `J` in m) at which [`fast_null_direction`] trusts its one
 /// solve; nearer singular it defers to the seven minors.
@@ -103,10 +114,10 @@ pub(crate) struct Linker<'a> {
     step: Real,
     /// The last walked configuration and its null direction: a node's two walks (±) share it.
     null: Option<(Q, Q)>,
-    /// The intermediate poses and configurations of the last bridged move ([`Linker::propose`]
-    /// returned [`Proposal::Bridged`]), from its start's side; rod scratch of a pose between
-    /// slices, and of the pose before it.
-    pub bridge: Vec<(Waypoint, Q)>,
+    /// The intermediate poses, configurations and arm rolls of the last bridged move
+    /// ([`Linker::propose`] returned [`Proposal::Bridged`]), from its start's side; rod scratch
+    /// of a pose between slices, and of the pose before it.
+    pub bridge: Vec<(Waypoint, Q, Real)>,
     rod: Vec<Vec3>,
     rod_prev: Vec<Vec3>,
     /// A bridge's intermediate s still to reach, innermost last (at most
@@ -222,17 +233,14 @@ impl<'a> Linker<'a> {
                             return Ok(Some(Proposal::Bridged(y)));
                         }
                     }
+                    if let Move::Roll(_) = mv {
+                        let single = tracked.map(|q| self.max_step(&x.q, &q));
+                        return self.roll_chain(x, psi, single);
+                    }
                     if tracked.is_some() {
                         return Err(BlockCause::Discontinuity);
                     }
-                    let (lo, hi) = (&self.lower, &self.upper);
-                    let near = (0..self.planner.dof)
-                        .any(|j| x.q[j] - lo[j] < bound || hi[j] - x.q[j] < bound);
-                    return Err(if near {
-                        BlockCause::JointLimit
-                    } else {
-                        BlockCause::NoIk
-                    });
+                    return Err(self.failed_track_cause(&x.q));
                 }
             }
         };
@@ -247,6 +255,72 @@ impl<'a> Linker<'a> {
             q,
             psi,
         })))
+    }
+
+    /// The cause of a track from `q` that did not converge: a joint limit when a joint is within
+    /// the joint-step bound of one, else no IK.
+    fn failed_track_cause(&self, q: &Q) -> BlockCause {
+        let bound = self.planner.rig.planner.max_joint_step;
+        let (lo, hi) = (&self.lower, &self.upper);
+        let near = (0..self.planner.dof).any(|j| q[j] - lo[j] < bound || hi[j] - q[j] < bound);
+        if near {
+            BlockCause::JointLimit
+        } else {
+            BlockCause::NoIk
+        }
+    }
+
+    /// A roll move from `x` to `psi_end` whose single track did not converge or exceeded the
+    /// joint-step bound (its joint step `single`, `None` when it did not converge), as a chain
+    /// of k equal sub-rolls, k = ⌈`single` / (`WALK_SUB_FRACTION`·bound)⌉ (2 without a
+    /// step), at least 2 and at most `ROLL_MAX_SUB`: each tracked from the last, within the
+    /// bound, its motor angle in range, its end valid and its segment collision-free. Like a
+    /// chained walk it ends at its last accepted point ([`Proposal::Bridged`], the intermediate
+    /// configurations in [`Linker::bridge`]); `Err` with the first sub-roll's cause when none is
+    /// accepted.
+    fn roll_chain(
+        &mut self,
+        x: &Config,
+        psi_end: Real,
+        single: Option<Real>,
+    ) -> std::result::Result<Option<Proposal>, BlockCause> {
+        let bound = self.planner.rig.planner.max_joint_step;
+        let sub_max = WALK_SUB_FRACTION * bound;
+        let k = single
+            .map_or(2.0, |step| (step / sub_max).ceil())
+            .clamp(2.0, ROLL_MAX_SUB as Real) as usize;
+        let i = x.slice as usize;
+        self.bridge.clear();
+        let mut cur = *x;
+        for m in 1..=k {
+            let psi = x.psi + (psi_end - x.psi) * m as Real / k as Real;
+            let target = self.slices.target(self.planner, i, psi);
+            let refused = match self.track(&target, &cur.q) {
+                None => Some(self.failed_track_cause(&cur.q)),
+                Some(q) if self.max_step(&cur.q, &q) > bound => Some(BlockCause::Discontinuity),
+                Some(_) if !self.planner.motor_ok(self.slices.motor(i, psi)) => {
+                    Some(BlockCause::JointLimit)
+                }
+                Some(q) => {
+                    let y = Config { q, psi, ..*x };
+                    match self.accept(&cur, &y) {
+                        Ok(()) => {
+                            self.bridge.push((self.slices.wps[i].clone(), q, psi));
+                            cur = y;
+                            None
+                        }
+                        Err(cause) => Some(cause),
+                    }
+                }
+            };
+            match refused {
+                Some(cause) if m == 1 => return Err(cause),
+                Some(_) => break,
+                None => {}
+            }
+        }
+        let (_, q, psi) = self.bridge.pop().expect("the first sub-roll was accepted");
+        Ok(Some(Proposal::Bridged(Config { q, psi, ..*x })))
     }
 
     /// A move from `x` to slice `to` through intermediate poses: the s-interval is halved where
@@ -312,7 +386,8 @@ impl<'a> Linker<'a> {
                         });
                     }
                     self.pending.pop();
-                    self.bridge.push((wp.expect("an intermediate pose"), q));
+                    self.bridge
+                        .push((wp.expect("an intermediate pose"), q, psi));
                     cur = q;
                     s_cur = s_t;
                     std::mem::swap(&mut self.rod, &mut self.rod_prev);
@@ -499,10 +574,10 @@ impl<'a> Linker<'a> {
             if self.accept(&a, &b).is_err() {
                 break;
             }
-            self.bridge.push((wp.clone(), p));
+            self.bridge.push((wp.clone(), p, x.psi));
             cur = p;
         }
-        let (_, end) = self.bridge.pop()?;
+        let (_, end, _) = self.bridge.pop()?;
         Some(Proposal::Bridged(Config { q: end, ..*x }))
     }
 }
@@ -629,7 +704,7 @@ mod tests {
                         _ => continue,
                     };
                     let mut chain = vec![x.q];
-                    chain.extend(linker.bridge.iter().map(|(_, q)| *q));
+                    chain.extend(linker.bridge.iter().map(|(_, q, _)| *q));
                     chain.push(y.q);
                     chains += 1;
                     full += usize::from(chain.len() == 5);
@@ -656,6 +731,71 @@ mod tests {
             chains >= 6 && full >= 4,
             "{chains} chains, {full} of four sub-steps"
         );
+    }
+
+    /// Roll moves (roll `motor`) within the joint-step bound: on the seed rig, from start
+    /// configurations of slice 0 (their arm roll from their motor angle), a roll move in either
+    /// direction is one step or a chain of sub-rolls, every link within the bound, every point
+    /// holding the slice's pose at its own roll (1e-9 m / rad) and collision-free against the
+    /// slice's rod (the test's own collision model), the roll monotone toward ψ ± `ROLL_STEP`.
+    /// At the seed's bound 0.05 rad some single steps exceed it (the last joint turns a little
+    /// more than the roll) and are chained; at 0.03 rad every one is, and without chains none
+    /// would be an edge.
+    #[test]
+    fn roll_moves_are_chained_within_the_joint_step_bound() {
+        for bound in [0.05, 0.03] {
+            let (rig, planner, slices, cm) = super::super::slices::seed_ray_100(|rig| {
+                rig.planner.max_joint_step = bound;
+            });
+            let mut linker = Linker::new(&planner, &slices).unwrap();
+            let mut ws = cm.workspace();
+            let rod = rig.rod_geometry(&slices.rods[0]);
+            let set = planner.start(RollMode::Motor).unwrap();
+            let (mut tried, mut whole, mut chained) = (0, 0, 0);
+            for comp in &set.comps {
+                for n in comp.iter().step_by(5).take(6) {
+                    // A start node's arm roll: its motor angle is the slice's less the roll.
+                    let x = Config {
+                        slice: 0,
+                        q: n.q,
+                        psi: slices.motor(0, 0.0) - n.motor,
+                    };
+                    for sign in [1, -1] {
+                        tried += 1;
+                        let mut chain = vec![(x.q, x.psi)];
+                        match linker.propose(&x, Move::Roll(sign), &|_| false) {
+                            Ok(Some(Proposal::Step(y))) => chain.push((y.q, y.psi)),
+                            Ok(Some(Proposal::Bridged(y))) => {
+                                chained += 1;
+                                chain.extend(linker.bridge.iter().map(|(_, q, p)| (*q, *p)));
+                                chain.push((y.q, y.psi));
+                            }
+                            _ => continue,
+                        }
+                        let end = chain.last().unwrap().1;
+                        whole +=
+                            usize::from((end - x.psi - Real::from(sign) * ROLL_STEP).abs() < 1e-12);
+                        for w in chain.windows(2) {
+                            assert!(linker.max_step(&w[0].0, &w[1].0) <= bound);
+                            assert!(Real::from(sign) * (w[1].1 - w[0].1) > 0.0);
+                        }
+                        for (q, psi) in &chain[1..] {
+                            let target = slices.target(&planner, 0, *psi);
+                            let (dp, dr) =
+                                target.errors(&planner.model().chain().tool_pose(&q[..7]));
+                            assert!(dp < 1e-9 && dr < 1e-9, "{dp:e} {dr:e}");
+                            assert!(cm.check(&q[..7], &mut ws, Some(&rod)).is_none());
+                        }
+                    }
+                }
+            }
+            println!("bound {bound}: {whole} whole roll steps of {tried}, {chained} chained");
+            assert!(tried >= 40 && whole * 10 >= tried * 9, "{whole} of {tried}");
+            assert!(chained >= 1, "no chain at {bound}");
+            if bound < ROLL_STEP * WALK_SUB_FRACTION {
+                assert!(chained >= whole, "{chained} chained of {whole}");
+            }
+        }
     }
 
     /// The corrector skips its trials only where they would all be refused: at configurations

@@ -51,8 +51,9 @@
 //!   of 0.04 with the same classes there and on the seed's 58 runs, but with reconfiguration
 //!   forbidden (starts sampled on their curves only) it loses a ray of the 50-ray sample that
 //!   0.16 reaches: the default is 0.16.
-//! - **Roll** (`motor`): steps of `linking::ROLL_STEP`; with a freely turning motor the roll is
-//!   compared modulo a whole turn (submodule `graph`).
+//! - **Roll** (`motor`): steps of `linking::ROLL_STEP`, a chain of sub-rolls where one step
+//!   would turn a joint by more than `planner.max_joint_step`; with a freely turning motor the
+//!   roll is compared modulo a whole turn (submodule `graph`).
 //! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
 //!   the neighbouring slice, or a bridge of such tracks through intermediate poses; every step
 //!   within the joint-step bound, its end valid and its joint-linear segment collision-free

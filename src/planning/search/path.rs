@@ -8,8 +8,9 @@
 //! A walk step inside a slice (each sub-step of a chained walk) is resampled
 //! ([`self_motion::refine`]) so that the rod end stays within
 //! [`self_motion::HOLD_TOLERANCE`] on every joint-linear chord, and every resampled point and
-//! chord is checked again against the held rod; a roll step (roll `motor`) is one chord of at
-//! most `ROLL_STEP` of arm roll, which the motor compensates.
+//! chord is checked again against the held rod; a roll step (roll `motor`) is one chord, or
+//! the chain of its sub-rolls, of at most `ROLL_STEP` of arm roll in all, which the motor
+//! compensates (each point with its own motor angle).
 
 use super::graph::{Graph, Via};
 use super::linking::Linker;
@@ -77,7 +78,7 @@ pub(crate) fn extract(
             let mut from_q = pn.q;
             let ends = bridge
                 .iter()
-                .map(|(w, q)| (*q, w.motor - n.c.psi))
+                .map(|(w, q, psi)| (*q, w.motor - psi))
                 .chain(std::iter::once((
                     n.c.q,
                     slices.motor(n.c.slice as usize, n.c.psi),
@@ -94,11 +95,11 @@ pub(crate) fn extract(
             }
             let walk = n.via == Via::Reconfigure && n.c.psi == pn.psi;
             if want_path && !walk {
-                for (w, q) in bridge {
+                for (w, q, psi) in bridge {
                     out.push(PlannedPoint {
                         waypoint: w.clone(),
                         q: q[..dof].to_vec(),
-                        motor: w.motor - n.c.psi,
+                        motor: w.motor - psi,
                         phase,
                     });
                 }
@@ -106,7 +107,11 @@ pub(crate) fn extract(
             if want_path && walk {
                 // A walk's sub-steps (a chained walk's intermediate points), each resampled.
                 let mut a = pn.q;
-                for b in bridge.iter().map(|(_, q)| *q).chain(std::iter::once(n.c.q)) {
+                for b in bridge
+                    .iter()
+                    .map(|(_, q, _)| *q)
+                    .chain(std::iter::once(n.c.q))
+                {
                     for q in refine_walk(planner, slices, linker, &a, &b, n.c.slice, n.c.psi)? {
                         out.push(point(
                             slices,
