@@ -168,6 +168,30 @@ fn rerun_over_a_finished_output_is_refused_without_resume_or_force() {
     assert!(!partial_path(&out).exists());
 }
 
+/// An output deleted by hand with its settings record left beside it: a rerun is refused,
+/// naming the record (not the missing output), and `--force` writes a complete result.
+#[test]
+fn a_left_settings_record_is_named_when_a_rerun_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.csv");
+    driver::run(&items(20), key, square, &opts(&out)).unwrap();
+    std::fs::remove_file(&out).unwrap();
+    let sidecar = helixreach::io::sidecar_path(&out);
+    assert!(sidecar.exists());
+    let e = driver::run(&items(5), key, square, &opts(&out))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&*sidecar.to_string_lossy()) && !e.contains("it already exists"),
+        "{e}"
+    );
+    assert!(e.contains("--resume") && e.contains("--force"), "{e}");
+    let mut o = opts(&out);
+    o.force = true;
+    driver::run(&items(5), key, square, &o).unwrap();
+    assert_eq!(data_rows(&out).len(), 5);
+}
+
 /// Kill a real `boundary` run over a finished output once it has checkpointed: the finished
 /// output is untouched, and `--resume` completes the checkpoint to exactly the uninterrupted
 /// result.

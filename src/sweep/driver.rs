@@ -286,19 +286,30 @@ fn prepare_file(
     let partial = partial_path(out);
     crate::io::remove_stale_temps(out);
     crate::io::remove_stale_temps(&partial);
-    let exists = |p: &Path| {
-        std::fs::symlink_metadata(p).is_ok()
-            || std::fs::symlink_metadata(crate::io::sidecar_path(p)).is_ok()
-    };
-    let (out_exists, partial_exists) = (exists(out), exists(&partial));
-    if !opts.resume && !opts.force && (out_exists || partial_exists) {
-        let what = if out_exists {
-            "it already exists".to_string()
+    // A file, or its settings record alone (the file deleted by hand), is an earlier run's.
+    let found = |p: &Path| {
+        let sidecar = crate::io::sidecar_path(p);
+        if std::fs::symlink_metadata(p).is_ok() {
+            Some(p.to_path_buf())
         } else {
-            format!(
+            std::fs::symlink_metadata(&sidecar)
+                .is_ok()
+                .then_some(sidecar)
+        }
+    };
+    let (out_found, partial_found) = (found(out), found(&partial));
+    let (out_exists, partial_exists) = (out_found.is_some(), partial_found.is_some());
+    if !opts.resume && !opts.force && (out_exists || partial_exists) {
+        let what = match (out_found, partial_found) {
+            (Some(p), _) if p == *out => "it already exists".to_string(),
+            (Some(p), _) => format!(
+                "an earlier run's settings record {} exists (the output itself is gone)",
+                p.display()
+            ),
+            (None, p) => format!(
                 "an unfinished run's checkpoint {} exists",
-                partial.display()
-            )
+                p.unwrap_or(partial.clone()).display()
+            ),
         };
         return Err(Error::File {
             path: out.clone(),
