@@ -339,7 +339,8 @@ pub struct PlannerSettings {
     /// `backoff`).
     pub allow_backoff: bool,
     /// Most nodes of one ray's search (≈ 168 bytes each); a ray needing more is `undecided`.
-    /// Default 50,000 (≈ 5.6 MB, about 0.4 s CPU per ray at the bound): roll `fixed` rays of the
+    /// Default 50,000 (≈ 5.6 MB; a ray at the bound costs about 0.25 s CPU in roll `fixed`,
+    /// 0.6–0.8 s in roll `motor` on the seed rig): roll `fixed` rays of the
     /// seed rig need at most about 31,000 at the default `search_step`; large roll `motor`
     /// pieces need more (`docs/RESULTS.md`), and a study that must decide them raises it.
     pub max_search_nodes: usize,

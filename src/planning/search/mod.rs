@@ -139,10 +139,10 @@
 //! s*) about 30,000 nodes at `search_step` 0.16 (≈ 0.14 s, about 4.7 µs per node; the count
 //! goes as 1/`search_step`: 116,000 at 0.04), and those few rays dominate a sweep's CPU. In
 //! roll `motor` the pieces are 2-D per slice (self-motion × roll, a node per
-//! `search_step` × `ROLL_STEP`: up to about 26,000 per slice on the seed rig; about 7 µs per
+//! `search_step` × `ROLL_STEP`: up to about 26,000 per slice on the seed rig; about 8 µs per
 //! node): there about one quarter-sphere ray in ten exceeds the default bound of 50,000 nodes
-//! (0.6–0.9 s each with the `fixed` decision it starts from, `undecided`), and most of those
-//! stay undecided at 1,000,000 (≈ 7 s each). Roll `fixed` rays stay within about 31,000 nodes
+//! (0.6–0.8 s each with the `fixed` decision it starts from, `undecided`), and most of those
+//! stay undecided at 1,000,000 (≈ 8 s each). Roll `fixed` rays stay within about 31,000 nodes
 //! at the default `search_step`.
 //! Figures: `docs/RESULTS.md`.
 
