@@ -13,12 +13,13 @@
 
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::math::{rot_z, Real, Vec3};
-use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
+use helixreach::planning::planner::{PlannedPoint, Planner, RayPlan, ReachClass, RigOverrides};
 use helixreach::planning::pose_path::{pose_path, PoseMap, Ray, Spacing};
 use helixreach::planning::rig::{Rig, RollMode, SearchMethod};
 use helixreach::planning::trajectory::Phase;
 use helixreach::robot::{CollisionModel, Frame, IkParams, IkSolver, IkTarget, MAX_DOF};
 use rayon::prelude::*;
+use std::f64::consts::PI;
 
 fn s_star(d: &Direction) -> Real {
     helixreach::boundary::continuum::critical_s(d, 1e-10)
@@ -454,7 +455,10 @@ fn search_is_monotone_per_direction() {
 }
 
 /// A testable ray's path: starts at s = 0 and ends at s_end; every step within the joint-step
-/// bound; every configuration holds its waypoint's pose (1e-9 m / rad) and is collision-free
+/// bound; every configuration holds its waypoint's pose (1e-9 m / rad; in roll `motor` its
+/// position and rod tangent, the arm's roll ψ about the tangent read from the arm's pose, the
+/// point's motor angle the waypoint's less ψ up to whole turns, ψ turning by at most the roll
+/// step between points, the motor angle within its range) and is collision-free
 /// against its rod (capsules from the pose map's centerline, not the planner's), and so is every
 /// joint-linear step between two points, sampled at most `planner.segment_check_step` apart
 /// against the rod of the larger s; reconfiguration points keep s; back-off points decrease s,
@@ -470,10 +474,23 @@ fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) 
     let mut interior = 0;
     assert_eq!(path[0].waypoint.s, 0.0);
     assert!((path.last().unwrap().waypoint.s - plan.s_end).abs() <= 1e-12 * plan.s_end);
+    let mut psi_prev: Option<Real> = None;
     for (k, p) in path.iter().enumerate() {
-        let target = IkTarget::Pose(planner.tip_target(&p.waypoint.tool));
-        let (dp, dr) = target.errors(&planner.model().chain().tool_pose(&p.q));
-        assert!(dp < 1e-9 && dr < 1e-9, "{d:?} point {k}: {dp:e} {dr:e}");
+        if plan.roll == RollMode::Motor {
+            let psi = motor_roll_checked(planner, p, k);
+            if let Some(prev) = psi_prev {
+                let turn = (psi - prev + PI).rem_euclid(2.0 * PI) - PI;
+                assert!(
+                    turn.abs() <= 0.05 + 1e-9,
+                    "{d:?} point {k}: roll turns {turn}"
+                );
+            }
+            psi_prev = Some(psi);
+        } else {
+            let target = IkTarget::Pose(planner.tip_target(&p.waypoint.tool));
+            let (dp, dr) = target.errors(&planner.model().chain().tool_pose(&p.q));
+            assert!(dp < 1e-9 && dr < 1e-9, "{d:?} point {k}: {dp:e} {dr:e}");
+        }
         let nodes = map
             .centerline(p.waypoint.kto, rig.planner.rod_capsules)
             .unwrap();
@@ -527,6 +544,41 @@ fn assert_path_valid(planner: &Planner, d: &Direction, s: Real, plan: &RayPlan) 
     interior
 }
 
+/// A roll `motor` point's pose against its waypoint, from the arm's forward kinematics: the
+/// tool position and z axis (the rod tangent) held to 1e-9; the arm's roll ψ about it
+/// (`R_toolᵀ·R_arm = Rz(−ψ)`); the point's motor angle `ω/c − ψ` up to whole turns (1e-9) and
+/// inside the rig's range. Returns ψ.
+fn motor_roll_checked(planner: &Planner, p: &PlannedPoint, k: usize) -> Real {
+    let arm = planner.tool_pose(&p.q);
+    let w = &p.waypoint.tool;
+    let dp = (arm.translation.vector - w.translation.vector).norm();
+    let m = (w.rotation.inverse() * arm.rotation)
+        .to_rotation_matrix()
+        .into_inner();
+    let off_axis = [m[(0, 2)], m[(1, 2)], m[(2, 0)], m[(2, 1)]]
+        .iter()
+        .fold(0.0, |a: Real, v| a.max(v.abs()));
+    assert!(
+        dp < 1e-9 && off_axis < 1e-9,
+        "point {k}: {dp:e} {off_axis:e}"
+    );
+    let psi = -m[(1, 0)].atan2(m[(0, 0)]);
+    let miss = (p.waypoint.motor - psi - p.motor + PI).rem_euclid(2.0 * PI) - PI;
+    assert!(
+        miss.abs() < 1e-9,
+        "point {k}: motor {} vs {}",
+        p.motor,
+        p.waypoint.motor - psi
+    );
+    let (lo, hi) = planner.rig().motor.range;
+    assert!(
+        p.motor >= lo && p.motor <= hi,
+        "point {k}: motor {}",
+        p.motor
+    );
+    psi
+}
+
 /// Paths of the testable rays of a coarse rig (24 slices: most edges are bridges) are valid
 /// ([`assert_path_valid`]), at a self-motion step of 0.1 rad and of 0.36 rad (every walk a
 /// chain of two sub-steps, each resampled on the path); with reconfiguration on some of them.
@@ -550,6 +602,50 @@ fn search_paths_are_valid() {
         assert!(
             checked >= 3 && reconfigured >= 1,
             "{checked} testable rays checked, {reconfigured} with reconfiguration"
+        );
+    }
+}
+
+/// Paths in roll `motor` are valid ([`assert_path_valid`]: the arm's roll read from its pose is
+/// the one the motor makes up, continuous along the path): on the seed run
+/// c1_0.59831_c2_0.4564 at its own clamp (margin 0), testable only in roll `motor`, at the
+/// rig's joint-step bound 0.05 rad and at 0.04 and 0.03 rad (where most or all roll steps are
+/// chains of sub-rolls; node bound 400,000); the path turns the arm about the rod by more
+/// than a roll step in all.
+#[test]
+fn motor_paths_are_valid() {
+    let d = Direction::new(0.799035, 0.478071, 0.364680).unwrap();
+    let s = s_star(&d);
+    for bound in [0.05, 0.04, 0.03] {
+        let mut rig = Rig::load("sawyer-seed").unwrap();
+        rig.planner.max_joint_step = bound;
+        rig.planner.max_search_nodes = 400_000;
+        let o = RigOverrides {
+            margin: Some(0.0),
+            clamp: Some([0.750, -0.350, -0.146]),
+            ..Default::default()
+        };
+        let planner = Planner::new(o.apply(&rig).unwrap()).unwrap();
+        let fixed = planner
+            .plan_ray(&d, s, 0.0, RollMode::Fixed, false)
+            .unwrap();
+        let motor = planner.plan_ray(&d, s, 0.0, RollMode::Motor, true).unwrap();
+        eprintln!(
+            "bound {bound}: fixed {:?} at {:.3}, motor {:?} at {:.3} of {:.3}",
+            fixed.class, fixed.s_reached, motor.class, motor.s_reached, s
+        );
+        assert_eq!(fixed.class, ReachClass::Partial, "bound {bound}");
+        assert_eq!(motor.class, ReachClass::Testable, "bound {bound}");
+        assert_path_valid(&planner, &d, s, &motor);
+        let path = motor.path.as_ref().unwrap();
+        let turned = path
+            .windows(2)
+            .map(|w| (w[1].waypoint.motor - w[1].motor) - (w[0].waypoint.motor - w[0].motor))
+            .map(Real::abs)
+            .sum::<Real>();
+        assert!(
+            turned > 0.05,
+            "bound {bound}: the arm rolls {turned} rad in all"
         );
     }
 }
