@@ -285,7 +285,9 @@ pub struct PlannerSettings {
     pub waypoints: usize,
     /// Upper bound on the number of waypoints of one ray.
     pub max_waypoints: usize,
-    /// Largest step of any joint on a ladder edge (rad).
+    /// Largest step of any joint between two consecutive configurations of a plan (rad): a
+    /// ladder step, or a move of the search (its longer walks and roll moves are chains of
+    /// sub-steps within it, [`crate::planning::search`]).
     pub max_joint_step: Real,
     /// Diverse fresh IK solutions at the start of a ray (the base rung width).
     pub redundancy_samples: usize,
