@@ -319,7 +319,10 @@ impl<'a> Linker<'a> {
                 None => {}
             }
         }
-        let (_, q, psi) = self.bridge.pop().expect("the first sub-roll was accepted");
+        // The first sub-roll was accepted (a refused one returned above).
+        let Some((_, q, psi)) = self.bridge.pop() else {
+            return Ok(None);
+        };
         Ok(Some(Proposal::Bridged(Config { q, psi, ..*x })))
     }
 
