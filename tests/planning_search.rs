@@ -650,6 +650,44 @@ fn motor_paths_are_valid() {
     }
 }
 
+/// A walk step that cannot be resampled within the hold tolerance (the corrector stepped onto
+/// a neighbouring branch of the self-motion near a fold) is not on a returned path: on the seed
+/// run c1_0.59831_c2_0.4564 at its own clamp in roll `motor`, at self-motion steps 0.12 and
+/// 0.24 rad, the first search's path has such a step; the ray is decided again with every walk
+/// step resampled as it is made, and the plan with its path and the decision without it agree
+/// (class, `s_reached`), the path valid ([`assert_path_valid`]).
+#[test]
+fn a_walk_that_does_not_hold_the_pose_is_not_on_a_path() {
+    let d = Direction::new(0.799035, 0.478071, 0.364680).unwrap();
+    let s = s_star(&d);
+    for step in [0.12, 0.24] {
+        let mut rig = Rig::load("sawyer-seed").unwrap();
+        rig.planner.search_step = step;
+        let o = RigOverrides {
+            margin: Some(0.0),
+            clamp: Some([0.750, -0.350, -0.146]),
+            ..Default::default()
+        };
+        let planner = Planner::new(o.apply(&rig).unwrap()).unwrap();
+        let with_path = planner.plan_ray(&d, s, 0.0, RollMode::Motor, true).unwrap();
+        let decided = planner
+            .plan_ray(&d, s, 0.0, RollMode::Motor, false)
+            .unwrap();
+        eprintln!(
+            "step {step}: {:?} at {:.3} of {:.3} ({} nodes)",
+            with_path.class, with_path.s_reached, s, with_path.search_nodes
+        );
+        assert_eq!(
+            (with_path.class, with_path.s_reached),
+            (decided.class, decided.s_reached),
+            "step {step}"
+        );
+        if with_path.class == ReachClass::Testable {
+            assert_path_valid(&planner, &d, s, &with_path);
+        }
+    }
+}
+
 /// Where no single step joins two slices near a ray's end, the ladder inserts midpoint poses
 /// and the search bridges the same interval: on the seed rig's quarter-sphere ray 114 of 200
 /// (margin 0.1) the ladder is testable; the search with fixed slices (`bridge_halvings = 0`)

@@ -51,7 +51,7 @@ use crate::math::{Real, Vec3};
 use crate::planning::cause::BlockCause;
 use crate::planning::planner::Planner;
 use crate::planning::pose_path::Waypoint;
-use crate::planning::self_motion::{null_direction, Q};
+use crate::planning::self_motion::{self, null_direction, Held, Q};
 use crate::robot::{CollisionWorkspace, IkSolver, IkTarget, Jacobian};
 
 /// Longest sub-step of a walk, as a fraction of `planner.max_joint_step` ([`Linker::walk`]).
@@ -120,6 +120,10 @@ pub(crate) struct Linker<'a> {
     pub bridge: Vec<(Waypoint, Q, Real)>,
     rod: Vec<Vec3>,
     rod_prev: Vec<Vec3>,
+    /// Accept a walk step only where it can be resampled within the hold tolerance
+    /// ([`Linker::resample_walk`]): the search's second pass where the path of the first has a
+    /// walk that cannot (parent module docs, "Walks that hold the pose").
+    pub check_holds: bool,
     /// A bridge's intermediate s still to reach, innermost last (at most
     /// `planner.bridge_halvings`).
     pending: Vec<Real>,
@@ -150,15 +154,11 @@ impl<'a> Linker<'a> {
             step: planner.rig.planner.search_step,
             null: None,
             bridge: Vec::new(),
+            check_holds: false,
             rod: vec![Vec3::zeros(); planner.rig.planner.rod_capsules + 1],
             rod_prev: vec![Vec3::zeros(); planner.rig.planner.rod_capsules + 1],
             pending: Vec::with_capacity(planner.rig.planner.bridge_halvings),
         })
-    }
-
-    /// The solver (track mode), for path extraction.
-    pub fn solver(&self) -> &IkSolver<'a> {
-        &self.solver
     }
 
     /// One track from `seed`; its Jacobian at the end is kept ([`Linker::null_hint`]).
@@ -551,6 +551,9 @@ impl<'a> Linker<'a> {
         let sub_max = WALK_SUB_FRACTION * self.planner.rig.planner.max_joint_step;
         if h <= sub_max {
             let p = self.corrector(target, q, sign, &n0, h)?;
+            if self.check_holds && self.resample_walk(x, &p).is_none() {
+                return None;
+            }
             return Some(Proposal::Step(Config { q: p, ..*x }));
         }
         let k = (h / sub_max).ceil();
@@ -577,11 +580,37 @@ impl<'a> Linker<'a> {
             if self.accept(&a, &b).is_err() {
                 break;
             }
+            if self.check_holds && self.resample_walk(&a, &p).is_none() {
+                break;
+            }
             self.bridge.push((wp.clone(), p, x.psi));
             cur = p;
         }
         let (_, end, _) = self.bridge.pop()?;
         Some(Proposal::Bridged(Config { q: end, ..*x }))
+    }
+
+    /// The walk step from `a` to `b` (a configuration of `a`'s slice at `a`'s roll) resampled
+    /// so that the rod end stays within [`self_motion::HOLD_TOLERANCE`] of the held pose on
+    /// every joint-linear chord ([`self_motion::refine`]), every sample valid and every chord
+    /// collision-free: the samples after `a` (the last is `b`). `None` where the bisection
+    /// does not converge (`b` is not on `a`'s arc of the self-motion: the corrector stepped
+    /// onto a neighbouring branch, near a fold) or a resampled chord collides.
+    pub fn resample_walk(&mut self, a: &Config, b: &Q) -> Option<Vec<Q>> {
+        let held = Held {
+            chain: self.planner.model.chain(),
+            solver: &self.solver,
+            tip: self.slices.tip(self.planner, a.slice as usize, a.psi),
+            dof: self.planner.dof,
+        };
+        let fine = self_motion::refine(&held, &[a.q, *b])?;
+        let mut prev = *a;
+        for q in &fine {
+            let y = Config { q: *q, ..*a };
+            self.accept(&prev, &y).ok()?;
+            prev = y;
+        }
+        Some(fine)
     }
 }
 

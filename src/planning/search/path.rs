@@ -6,19 +6,21 @@
 //! inside-slice (`reconfigure`) and back-off (`backoff`) edges; a bridged edge
 //! ([`super::linking::Proposal::Bridged`]) adds its intermediate poses as points of its phase.
 //! A walk step inside a slice (each sub-step of a chained walk) is resampled
-//! ([`self_motion::refine`]) so that the rod end stays within
-//! [`self_motion::HOLD_TOLERANCE`] on every joint-linear chord, and every resampled point and
-//! chord is checked again against the held rod; a roll step (roll `motor`) is one chord, or
+//! ([`Linker::resample_walk`]) so that the rod end stays within
+//! [`crate::planning::self_motion::HOLD_TOLERANCE`] on every joint-linear chord, and every
+//! resampled point and chord is checked again against the held rod — also when the points are
+//! not wanted: a path with a walk step that cannot be resampled is not returned (the search
+//! then runs again with every walk step checked that way, parent module docs); a roll step (roll `motor`) is one chord, or
 //! the chain of its sub-rolls, of at most `ROLL_STEP` of arm roll in all, which the motor
 //! compensates (each point with its own motor angle).
 
 use super::graph::{Graph, Via};
-use super::linking::Linker;
+use super::linking::{Config, Linker};
 use super::slices::Slices;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::math::Real;
 use crate::planning::planner::{node_of, PlannedPoint, Planner};
-use crate::planning::self_motion::{self, Held, Q};
+use crate::planning::self_motion::Q;
 use crate::planning::trajectory::Phase;
 
 /// An extracted path and its counts.
@@ -38,7 +40,9 @@ pub(crate) struct Extracted {
     pub slices: usize,
 }
 
-/// The path to node `end` of `graph`.
+/// The path to node `end` of `graph`; `None` when a walk step on it cannot be resampled
+/// within the hold tolerance ([`Linker::resample_walk`]): every walk step is resampled, also
+/// when the points are not wanted.
 pub(crate) fn extract(
     planner: &Planner,
     slices: &Slices,
@@ -46,7 +50,7 @@ pub(crate) fn extract(
     linker: &mut Linker<'_>,
     end: u32,
     want_path: bool,
-) -> Result<Extracted> {
+) -> Result<Option<Extracted>> {
     // Start at the last slice-0 node before the first load step.
     let (chain, first) = graph.chain_to(end);
     let chain = &chain[first.saturating_sub(1)..];
@@ -104,25 +108,30 @@ pub(crate) fn extract(
                     });
                 }
             }
-            if want_path && walk {
+            if walk {
                 // A walk's sub-steps (a chained walk's intermediate points), each resampled.
-                let mut a = pn.q;
+                let mut a = Config { q: pn.q, ..n.c };
                 for b in bridge
                     .iter()
                     .map(|(_, q, _)| *q)
                     .chain(std::iter::once(n.c.q))
                 {
-                    for q in refine_walk(planner, slices, linker, &a, &b, n.c.slice, n.c.psi)? {
-                        out.push(point(
-                            slices,
-                            n.c.slice,
-                            &q,
-                            n.c.psi,
-                            dof,
-                            Phase::Reconfigure,
-                        ));
+                    let Some(fine) = linker.resample_walk(&a, &b) else {
+                        return Ok(None);
+                    };
+                    if want_path {
+                        for q in fine {
+                            out.push(point(
+                                slices,
+                                n.c.slice,
+                                &q,
+                                n.c.psi,
+                                dof,
+                                Phase::Reconfigure,
+                            ));
+                        }
                     }
-                    a = b;
+                    a.q = b;
                 }
                 prev = Some((n.via, i));
                 continue;
@@ -133,14 +142,14 @@ pub(crate) fn extract(
         }
         prev = Some((n.via, i));
     }
-    Ok(Extracted {
+    Ok(Some(Extracted {
         points: want_path.then_some(out),
         reconfigurations: reconf,
         backoffs: back,
         cost,
         max_joint_step: max_step,
         slices: seen.len(),
-    })
+    }))
 }
 
 fn point(slices: &Slices, slice: u32, q: &Q, psi: Real, dof: usize, phase: Phase) -> PlannedPoint {
@@ -150,49 +159,4 @@ fn point(slices: &Slices, slice: u32, q: &Q, psi: Real, dof: usize, phase: Phase
         motor: slices.motor(slice as usize, psi),
         phase,
     }
-}
-
-/// The walk step a → b at the held pose of `slice`, resampled within the hold tolerance, every
-/// sample and chord re-checked; the samples after `a` (the last is `b`).
-fn refine_walk(
-    planner: &Planner,
-    slices: &Slices,
-    linker: &mut Linker<'_>,
-    a: &Q,
-    b: &Q,
-    slice: u32,
-    psi: Real,
-) -> Result<Vec<Q>> {
-    let tip = slices.tip(planner, slice as usize, psi);
-    let held = Held {
-        chain: planner.model.chain(),
-        solver: linker.solver(),
-        tip,
-        dof: planner.dof,
-    };
-    let fine = self_motion::refine(&held, &[*a, *b]).ok_or_else(|| {
-        Error::invalid(
-            "reconfiguration",
-            format!("slice {slice} (s = {})", slices.wps[slice as usize].s),
-            "a self-motion step could not be resampled within the hold tolerance",
-        )
-    })?;
-    let mut prev = *a;
-    for q in &fine {
-        let x = super::linking::Config {
-            slice,
-            q: prev,
-            psi,
-        };
-        let y = super::linking::Config { slice, q: *q, psi };
-        linker.accept(&x, &y).map_err(|c| {
-            Error::invalid(
-                "reconfiguration",
-                format!("slice {slice} (s = {})", slices.wps[slice as usize].s),
-                format!("the resampled self-motion step collides ({c})"),
-            )
-        })?;
-        prev = *q;
-    }
-    Ok(fine)
 }
