@@ -113,9 +113,10 @@
 //! if it can be), so the decision with and without the path is the same and every returned
 //! path holds the pose. On the seed rig 3 of the more than 100,000 walk steps the search makes
 //! on the 200-direction quarter-sphere sample (roll `fixed`) cannot be resampled; no ray of
-//! that sample (roll `fixed` or `motor`) has one on its path, and the seed run c1_0.59831_c2_0.4564 in roll `motor` at
-//! `search_step` 0.12 or 0.24 does (test `a_walk_that_does_not_hold_the_pose_is_not_on_a_path`).
-//! Resampling the path's walks costs about 3 % of a sweep's CPU.
+//! that sample (roll `fixed` or `motor`) has one on its path, and the seed run
+//! c1_0.59831_c2_0.4564 in roll `motor` at `search_step` 0.12 or 0.24 does (test
+//! `a_walk_that_does_not_hold_the_pose_is_not_on_a_path`). Resampling the path's walks costs
+//! about 3 % of a sweep's CPU.
 //!
 //! # Monotone by construction
 //! - roll `motor` ⊇ `fixed`: a `motor` ray returns the farther of its `fixed` decision and its

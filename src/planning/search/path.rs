@@ -10,9 +10,9 @@
 //! [`crate::planning::self_motion::HOLD_TOLERANCE`] on every joint-linear chord, and every
 //! resampled point and chord is checked again against the held rod — also when the points are
 //! not wanted: a path with a walk step that cannot be resampled is not returned (the search
-//! then runs again with every walk step checked that way, parent module docs); a roll step (roll `motor`) is one chord, or
-//! the chain of its sub-rolls, of at most `ROLL_STEP` of arm roll in all, which the motor
-//! compensates (each point with its own motor angle).
+//! then runs again with every walk step checked that way, parent module docs). A roll step
+//! (roll `motor`) is one chord, or the chain of its sub-rolls, of at most `ROLL_STEP` of arm
+//! roll in all, which the motor compensates (each point with its own motor angle).
 
 use super::graph::{Graph, Via};
 use super::linking::{Config, Linker};
