@@ -4,10 +4,12 @@
 //! differ. One thread; each ray's s* from the continuum test.
 //!
 //! ```text
-//! cargo run --release --example search_report -- [--directions 200] [--full] [--roll fixed|motor]
+//! cargo run --release --example search_report -- [--rig sawyer-seed] [--directions 200] [--full]
+//!     [--roll fixed|motor]
 //!     [--margin 0.1] [--every 1] [--only k] [--step rad] [--no-peer] [--no-backoff]
 //!     [--no-reconfiguration] [--azimuths N] [--max-nodes N] [--csv out.csv]
 //! ```
+//! `--rig`: an embedded rig or a rig file (`helixreach rig init` writes one for any arm);
 //! `--no-backoff`, `--no-reconfiguration`: the rig's `planner.allow_backoff` and
 //! `planner.allow_reconfiguration` off; `--azimuths N`: each ray planned at N azimuths (the
 //! best kept, [`Planner::plan_best`]) instead of azimuth 0.
@@ -48,7 +50,7 @@ fn main() -> helixreach::Result<()> {
         .filter(|(k, _)| get("--only").is_none_or(|o| o.parse() == Ok(*k)))
         .map(|(_, d)| d)
         .collect();
-    let mut rig = Rig::load("sawyer-seed")?;
+    let mut rig = Rig::load(get("--rig").as_deref().unwrap_or("sawyer-seed"))?;
     rig.planner.margin = margin;
     rig.planner.allow_backoff = !has("--no-backoff");
     if has("--no-reconfiguration") {

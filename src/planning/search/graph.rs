@@ -555,6 +555,7 @@ impl Graph {
             if self.find(&y).is_some() {
                 continue;
             }
+            let mut ys = [Some(y), None];
             if !bridged {
                 let checked = if rules.defer_segments {
                     linker.accept_end(&y)
@@ -565,11 +566,19 @@ impl Graph {
                     if counted {
                         self.causes[slice as usize].add(cause);
                     }
-                    continue;
+                    if !matches!(mv, Move::Load | Move::Backoff) {
+                        continue;
+                    }
+                    // The track landed on an invalid point: the nearest valid ones of its
+                    // slice within the joint-step bound, on either side (module docs).
+                    ys = [1.0, -1.0].map(|sign| {
+                        linker
+                            .landing(&x, &y, sign, &|c| self.find(c).is_some())
+                            .filter(|l| {
+                                rules.defer_segments || linker.accept_segment(&x, l).is_ok()
+                            })
+                    });
                 }
-            }
-            if self.nodes.len() >= rules.max_nodes {
-                return Some(Outcome::Bound);
             }
             let via = match (mv, dir) {
                 (Move::Walk(_) | Move::Roll(_), _) => Via::Reconfigure,
@@ -578,24 +587,29 @@ impl Graph {
                 }
                 _ => Via::Backoff,
             };
-            let nid = self.insert(Node {
-                c: y,
-                parent: id,
-                via,
-            });
-            if bridged {
-                self.bridges.insert(nid, std::mem::take(&mut linker.bridge));
-            } else {
-                self.unchecked[nid as usize] = rules.defer_segments;
-            }
-            if rules.walks(dir, y.slice) {
-                if let Some(n) = linker.null_hint(&y) {
-                    self.nulls[nid as usize] = n;
+            for y in ys.into_iter().flatten() {
+                if self.nodes.len() >= rules.max_nodes {
+                    return Some(Outcome::Bound);
                 }
-            }
-            self.fresh.push(nid);
-            if y.slice == goal {
-                return Some(Outcome::Reached(nid));
+                let nid = self.insert(Node {
+                    c: y,
+                    parent: id,
+                    via,
+                });
+                if bridged {
+                    self.bridges.insert(nid, std::mem::take(&mut linker.bridge));
+                } else {
+                    self.unchecked[nid as usize] = rules.defer_segments;
+                }
+                if rules.walks(dir, y.slice) {
+                    if let Some(n) = linker.null_hint(&y) {
+                        self.nulls[nid as usize] = n;
+                    }
+                }
+                self.fresh.push(nid);
+                if y.slice == goal {
+                    return Some(Outcome::Reached(nid));
+                }
             }
         }
         None

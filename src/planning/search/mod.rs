@@ -55,7 +55,9 @@
 //!   would turn a joint by more than `planner.max_joint_step`; with a freely turning motor the
 //!   roll is compared modulo a whole turn (submodule `graph`).
 //! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
-//!   the neighbouring slice, or a bridge of such tracks through intermediate poses; every step
+//!   the neighbouring slice (where it lands on an invalid configuration, the nearest valid ones
+//!   along the landing's self-motion curve within the joint-step bound, sampled every quarter
+//!   of that bound), or a bridge of such tracks through intermediate poses; every step
 //!   within the joint-step bound, its end valid and its joint-linear segment collision-free
 //!   (checked every `planner.segment_check_step`).
 //!
@@ -64,14 +66,21 @@
 //! narrower than the resolution (a gap in a curve shorter than a step, a link between slices
 //! that no minimum-norm track from a sample finds) can be missed; the brute-force reference of
 //! the tests (every IK branch on a redundancy grid, from many restarts, flood-filled) bounds
-//! that on a sample of rays. A load step is the minimum-norm track from a node: where that
-//! lands in collision, another solution of the next slice within the joint-step bound may be
-//! valid, and a step to it is not an edge here unless a move inside the slice joins the two.
-//! With a large bound this matters: on a coarse rig (24 slices, bound 0.3 rad) in roll `motor`
-//! a reference taking any valid solution within the bound reaches slice 8 of direction 100
-//! (200-direction quarter-sphere lattice) where the search stops at 5; with the search's load
-//! edge the reference agrees with it (test `motor_search_agrees_with_the_brute_force_reference`).
-//! At the seed rig's bound (0.05 rad) that neighbourhood is about a third of a search step wide.
+//! that on a sample of rays. A load step is the minimum-norm track from a node; where that
+//! lands on an invalid configuration, the nearest valid ones of the landing's self-motion
+//! curve within the joint-step bound, one on each side, are load steps too (submodule
+//! `linking`, "Landing"). Another valid solution of the next slice within the bound (on
+//! another curve, or past a second invalid stretch) is not an edge here unless a move inside
+//! the slice joins the two. With a large bound this matters: on a coarse rig (24 slices, bound
+//! 0.3 rad) in roll `motor` a reference taking any valid solution within the bound reaches
+//! slice 8 of direction 100 (200-direction quarter-sphere lattice) where the search stops at
+//! 5; with the search's load edge the reference agrees with it (test
+//! `motor_search_agrees_with_the_brute_force_reference`). At the seed rig's bound (0.05 rad)
+//! that neighbourhood is about a third of a search step wide. On an arm whose collision model
+//! leaves narrow valid arcs the landings matter: on Baxter's right arm (39 collision
+//! primitives) the search stopped 1–4 slices before the ladder on 13 of 100 quarter-sphere rays
+//! without them, and reaches every slice the ladder reaches with them (test
+//! `the_search_reaches_every_slice_the_ladder_reaches_on_baxter`).
 //! Where no single track joins a node to the neighbouring slice
 //! within the joint-step bound (a fast stretch of the self-motion, typically near the end of a
 //! ray), the edge is bridged through intermediate poses (`planner.bridge_halvings` halvings of
