@@ -16,7 +16,7 @@
 //! `--full`: the whole sphere's Fibonacci lattice instead of the quarter-sphere; `--every k`:
 //! every k-th direction of the lattice; `--only k`: the k-th of those only; `--step`: the rig's `planner.search_step`;
 //! `--max-nodes`: its `planner.max_search_nodes` (a ray needing more is `undecided`); 1,000,000
-//! here unless given (the rig's default, 50,000, leaves large roll `motor` pieces undecided).
+//! here unless given (the seed rig's bound, 50,000, leaves large roll `motor` pieces undecided).
 use helixreach::directions::{fibonacci, Direction};
 use helixreach::planning::planner::{Planner, RayPlan, ReachClass};
 use helixreach::planning::rig::{azimuth_grid, Rig, RollMode, SearchMethod};

@@ -211,7 +211,7 @@ fn seed_directions_are_testable_with_their_own_clamps() {
 /// components at s = 1.34), and in roll `motor` — the seed rig's motor turns freely — it finds a
 /// path to s*. That search compares the roll modulo a whole turn; with the roll unwrapped it
 /// would flood a copy of the piece per winding and end `undecided` at the 1,000,000-node bound.
-/// The motor search needs that bound here (the seed rig's default, 50,000, leaves the run
+/// The motor search needs that bound here (the seed rig's bound, 50,000, leaves the run
 /// `undecided`, never partial).
 #[test]
 fn a_seed_run_is_testable_by_the_motor_roll() {
