@@ -341,11 +341,13 @@ pub struct PlannerSettings {
     /// `backoff`).
     pub allow_backoff: bool,
     /// Most nodes of one ray's search (≈ 168 bytes each); a ray needing more is `undecided`.
-    /// Default 200,000 (≈ 34 MB per thread): the roll `fixed` rays of the seed rig need at
-    /// most about 31,000 at the default `search_step`, those of the xArm7 rig `rig init` writes
-    /// about 130,000 (at 50,000 it leaves 5 of 100 quarter-sphere rays `undecided`). Large
-    /// roll `motor` pieces need millions (`docs/RESULTS.md`): there a ray at the bound costs
-    /// about 8 µs CPU per node, and the seed rig sets 50,000 so that its sweeps stay short.
+    /// Default 50,000 (≈ 8.4 MB per thread; a ray at the bound costs about 0.25–0.55 s CPU in
+    /// roll `fixed`, 0.6–0.8 s in roll `motor` on the seed rig). The roll `fixed` rays of the
+    /// seed rig need at most about 31,000 at the default `search_step`; those of the xArm7 rig
+    /// `rig init` writes up to about 130,000 (5 of 100 quarter-sphere rays are `undecided` at
+    /// the default, partial at 200,000). Large roll `motor` pieces need millions
+    /// (`docs/RESULTS.md`): there a larger bound costs about 8 µs CPU per node of every ray
+    /// that reaches it, often without deciding it. A study that must decide more raises it.
     pub max_search_nodes: usize,
     /// The search only: most halvings of a slice interval where no single step joins two
     /// slices (a bridge through intermediate poses, like the ladder's refinement; 0: fixed
@@ -429,7 +431,7 @@ impl Default for PlannerSettings {
             hold_time: 2.0,
             search: SearchMethod::Exact,
             allow_backoff: true,
-            max_search_nodes: 200_000,
+            max_search_nodes: 50_000,
             bridge_halvings: 4,
             search_step: 0.16,
         }

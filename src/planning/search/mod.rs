@@ -146,7 +146,7 @@
 //! direction on their sample.
 //!
 //! # Bounds
-//! At most `planner.max_search_nodes` nodes per ray (default 200,000, the seed rig 50,000; ≈ 168 bytes each, and at most 4 KB of
+//! At most `planner.max_search_nodes` nodes per ray (default 50,000; ≈ 168 bytes each, and at most 4 KB of
 //! bucket heads per slice a node lies on); a search that needs
 //! more reports the ray `undecided` ([`ReachClass::Undecided`]) with the farthest s found, never
 //! a guessed class. A rig whose self-motion step would need more nodes than the bound to cover
@@ -164,7 +164,7 @@
 //! goes as 1/`search_step`: 116,000 at 0.04), and those few rays dominate a sweep's CPU. In
 //! roll `motor` the pieces are 2-D per slice (self-motion × roll, a node per
 //! `search_step` × `ROLL_STEP`: up to about 26,000 per slice on the seed rig; about 8 µs per
-//! node): there about one quarter-sphere ray in ten exceeds the seed rig's bound of 50,000 nodes
+//! node): there about one quarter-sphere ray in ten exceeds the default bound of 50,000 nodes
 //! (0.6–0.8 s each with the `fixed` decision it starts from, `undecided`), and most of those
 //! stay undecided at 1,000,000 (≈ 8 s each). Roll `fixed` rays of the seed rig stay within
 //! about 31,000 nodes at the default `search_step`, those of the xArm7 rig of `rig init`
