@@ -13,7 +13,7 @@
 //!   ([`crate::robot::IkParams::tracking`]): from a neighbouring slice's solution the
 //!   Gauss–Newton step converges quadratically.
 //! - **Landing** (7-DOF arms): where a load or back-off track converges within the bound but
-//!   its end y is not valid (a collision or a joint limit), the self-motion curve of y's slice
+//!   its end y is in collision (scene, self or rod), the self-motion curve of y's slice
 //!   through y is walked on both sides in predictor–corrector sub-steps of
 //!   `LANDING_SUB_FRACTION`·`planner.max_joint_step`, each point checked, up to the first valid
 //!   point while it stays within the joint-step bound of x ([`Linker::landing`]). The edge is
@@ -425,7 +425,7 @@ impl<'a> Linker<'a> {
         }
     }
 
-    /// Where the one-step load or back-off from `x` lands at `y` and `y` is not valid: the
+    /// Where the one-step load or back-off from `x` lands at `y` and `y` is in collision: the
     /// nearest valid configuration of `y`'s slice along its self-motion curve on the side
     /// `sign`, within the joint-step bound of `x` (sub-steps of `LANDING_SUB_FRACTION` of the
     /// bound, each corrected onto the slice's pose, at most `LANDING_MAX_STEPS`; module docs,

@@ -55,7 +55,7 @@
 //!   would turn a joint by more than `planner.max_joint_step`; with a freely turning motor the
 //!   roll is compared modulo a whole turn (submodule `graph`).
 //! - **Edges** (submodule `linking`): a load / back-off step is one minimum-norm track from a node to
-//!   the neighbouring slice (where it lands on an invalid configuration, the nearest valid ones
+//!   the neighbouring slice (where it lands in collision, the nearest valid ones
 //!   along the landing's self-motion curve within the joint-step bound, sampled every quarter
 //!   of that bound), or a bridge of such tracks through intermediate poses; every step
 //!   within the joint-step bound, its end valid and its joint-linear segment collision-free
@@ -67,7 +67,7 @@
 //! that no minimum-norm track from a sample finds) can be missed; the brute-force reference of
 //! the tests (every IK branch on a redundancy grid, from many restarts, flood-filled) bounds
 //! that on a sample of rays. A load step is the minimum-norm track from a node; where that
-//! lands on an invalid configuration, the nearest valid ones of the landing's self-motion
+//! lands in collision, the nearest valid ones of the landing's self-motion
 //! curve within the joint-step bound, one on each side, are load steps too (submodule
 //! `linking`, "Landing"). Another valid solution of the next slice within the bound (on
 //! another curve, or past a second invalid stretch) is not an edge here unless a move inside
