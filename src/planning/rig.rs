@@ -325,7 +325,9 @@ pub struct PlannerSettings {
     /// Weight of the motor step in the edge cost.
     pub motor_weight: Real,
     /// Allow self-motion reconfiguration at a held pose when advancing in s is blocked
-    /// ([`crate::planning::self_motion`]).
+    /// ([`crate::planning::self_motion`]). Forbidden, the search's load steps still move along
+    /// the self-motion within the joint-step bound where the minimum-norm track lands in
+    /// collision ([`crate::planning::search`], "Moves").
     pub allow_reconfiguration: bool,
     /// Largest joint step (max-norm, rad) of the exploration walk along the self-motion manifold
     /// (its sampling resolution) of the ladder and of the start set; the executed

@@ -89,7 +89,11 @@
 //!
 //! # Moves
 //! - **Reconfiguration** (a move inside a slice: the rod end held) when
-//!   `planner.allow_reconfiguration`; always at s = 0, where the rod is not yet clamped.
+//!   `planner.allow_reconfiguration`; always at s = 0, where the rod is not yet clamped. A
+//!   landing (Resolution, "Edges") is a load step, not a reconfiguration: with reconfiguration
+//!   forbidden the arm still leaves the minimum-norm track, by at most the joint-step bound per
+//!   load step, where that track lands in collision (test `an_obstacle_forces_a_reconfiguration`:
+//!   such steps steer the arm around a ball of 0.07 m, not one of 0.09 m).
 //! - **Back-off** (`planner.allow_backoff`): below s* the rod is stable and its shape depends
 //!   on s only, so the arm may drive back along the ray (phase `backoff`), reconfigure and drive
 //!   on. Past s* the path only moves forward. Forbidden, the search is monotone in s.
