@@ -997,6 +997,194 @@ mod tests {
         assert!(linker.null_hint(&y).is_none());
     }
 
+    /// Landings against a constructed collision ([`Linker::landing`]). On the seed rig, from
+    /// start configurations x of slice 0 whose load step lands at y (slice 1), a ball is placed
+    /// ahead of the link that the self-motion through y moves fastest, its radius set by
+    /// bisection so that the arm at y is 0.5 mm inside it. The reference is an independent walk
+    /// of y's self-motion curve in 1 mrad steps (each corrected onto slice 1's pose), checked
+    /// with the test's own collision model (the ball, the scene, the slice's rod) and the joint
+    /// limits, up to where it leaves the joint-step bound of x. On each side:
+    /// - a landing p holds the pose (1e-9 m / rad), lies on that curve (within 2 mrad of a
+    ///   reference point), is valid, is within the bound of x, is no nearer to y than the
+    ///   reference's first valid point and at most 1.2 sub-steps into its first valid arc wider
+    ///   than 1.5 sub-steps (a narrower arc may be stepped over); with every configuration
+    ///   known, there is none;
+    /// - no landing: the reference has no valid arc wider than 1.5 sub-steps within the bound.
+    ///
+    /// The arm is put 0.5, 4 and 15 mm inside the ball: both kinds occur on the sample, and so
+    /// do cases with no landing on either side (the ball too deep to leave within the bound).
+    #[test]
+    fn a_load_that_lands_in_collision_lands_beside_it() {
+        use crate::robot::collision::{ObstaclePose, SceneObstacle};
+        use crate::robot::Shape;
+        let (rig, planner, slices, _) = super::super::slices::seed_ray_100(|_| {});
+        let bound = rig.planner.max_joint_step;
+        let h = LANDING_SUB_FRACTION * bound;
+        let chain = planner.model().chain();
+        let mut frames = vec![crate::robot::Frame::default(); chain.n_links()];
+        let mut frames2 = frames.clone();
+        let mut linker = Linker::new(&planner, &slices).unwrap();
+        let target = slices.target(&planner, 1, 0.0);
+        let set = planner.start(RollMode::Fixed).unwrap();
+        let (mut landed, mut refused, mut cases, mut deep) = (0, 0, 0, 0);
+        for node in set.comps.iter().flatten().step_by(5).take(24) {
+            let x = Config {
+                slice: 0,
+                q: node.q,
+                psi: 0.0,
+            };
+            let Ok(Some(Proposal::Step(y))) = linker.propose(&x, Move::Load, &|_| false) else {
+                continue;
+            };
+            // The link the self-motion through y moves fastest, and a ball ahead of it.
+            let Some(n) = linker.null_at(&y.q) else {
+                continue;
+            };
+            let mut pred = y.q;
+            for j in 0..7 {
+                pred[j] += 0.01 * n[j];
+            }
+            let Some(ahead) = linker.solver.track(&target, &pred[..7], None) else {
+                continue;
+            };
+            chain.link_frames(&y.q[..7], &mut frames);
+            chain.link_frames(ahead.joints(), &mut frames2);
+            let (link, _) = (0..frames.len())
+                .map(|i| (i, (frames2[i].pos - frames[i].pos).norm()))
+                .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+            let v = (frames2[link].pos - frames[link].pos).normalize();
+            let centre = frames[link].pos + 0.25 * v;
+            let ball = |radius: Real| {
+                let mut r = rig.clone();
+                r.obstacles.push(SceneObstacle {
+                    name: "probe".into(),
+                    shape: Shape::Sphere { radius },
+                    pose: ObstaclePose {
+                        xyz: [centre.x, centre.y, centre.z],
+                        rpy: [0.0; 3],
+                    },
+                });
+                r
+            };
+            let model_of = |r: &crate::planning::rig::Rig| {
+                let mut cm = crate::robot::CollisionModel::for_model(planner.model()).unwrap();
+                cm.set_obstacles(&r.obstacles).unwrap();
+                cm
+            };
+            let rod = rig.rod_geometry(&slices.rods[1]);
+            let hits = |cm: &crate::robot::CollisionModel, q: &Q| {
+                let mut ws = cm.workspace();
+                cm.check(&q[..7], &mut ws, Some(&rod)).is_some()
+            };
+            if hits(&model_of(&rig), &y.q) {
+                continue;
+            }
+            let (mut lo, mut hi) = (0.0, 0.25);
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                if hits(&model_of(&ball(mid)), &y.q) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            for depth in [5e-4, 4e-3, 1.5e-2] {
+                let rig_b = ball(hi + depth);
+                let cm = model_of(&rig_b);
+                assert!(hits(&cm, &y.q));
+                let planner_b = Planner::new(rig_b).unwrap();
+                let mut lb = Linker::new(&planner_b, &slices).unwrap();
+                let (lower, upper) = (planner.model.lower(), planner.model.upper());
+                cases += 1;
+                let landed_before = landed;
+                for sign in [1.0, -1.0] {
+                    // The reference walk: arc length (sum of max-norm steps), point, validity.
+                    let mut walk: Vec<(Real, Q, bool)> = vec![(0.0, y.q, false)];
+                    let (mut q, mut dir) = (y.q, n);
+                    for j in 0..7 {
+                        dir[j] *= sign;
+                    }
+                    while walk.len() < 400 {
+                        let mut p = q;
+                        for j in 0..7 {
+                            p[j] += 1e-3 * dir[j];
+                        }
+                        let Some(sol) = linker.solver.track(&target, &p[..7], None) else {
+                            break;
+                        };
+                        let mut next = q;
+                        next[..7].copy_from_slice(sol.joints());
+                        let in_limits = (0..7).all(|j| next[j] >= lower[j] && next[j] <= upper[j]);
+                        if !in_limits || linker.max_step(&x.q, &next) > bound {
+                            break;
+                        }
+                        let arc = walk.last().unwrap().0 + linker.max_step(&q, &next);
+                        walk.push((arc, next, !hits(&cm, &next)));
+                        let Some(m) = linker.null_along(&next, &dir) else {
+                            break;
+                        };
+                        (q, dir) = (next, m);
+                    }
+                    // Valid arcs of the reference: (start, end) arc lengths.
+                    let mut arcs: Vec<(Real, Real)> = Vec::new();
+                    let mut open: Option<(Real, Real)> = None;
+                    for (a, _, ok) in &walk {
+                        if *ok {
+                            open = Some(open.map_or((*a, *a), |(start, _)| (start, *a)));
+                        } else if let Some(arc) = open.take() {
+                            arcs.push(arc);
+                        }
+                    }
+                    arcs.extend(open);
+                    let wide = arcs.iter().find(|(a, b)| b - a > 1.5 * h);
+                    match lb.landing(&x, &y, sign, &|_| false) {
+                        Some(p) => {
+                            landed += 1;
+                            let (dp, dr) = target.errors(&chain.tool_pose(&p.q[..7]));
+                            assert!(dp < 1e-9 && dr < 1e-9, "{dp:e} {dr:e}");
+                            assert!(!hits(&cm, &p.q), "the landing is in collision");
+                            assert!(linker.max_step(&x.q, &p.q) <= bound);
+                            let (gap, at) = walk
+                                .iter()
+                                .map(|(a, r, _)| (linker.max_step(r, &p.q), *a))
+                                .fold((Real::INFINITY, 0.0), |m, v| if v.0 < m.0 { v } else { m });
+                            assert!(gap < 2e-3, "the landing is {gap} rad off the curve");
+                            let first = arcs.first().expect("the reference finds a valid point");
+                            assert!(
+                                at >= first.0 - 2e-3,
+                                "{at} before the first valid {}",
+                                first.0
+                            );
+                            if let Some((start, _)) = wide {
+                                let last = start + 1.2 * h + 2e-3;
+                                assert!(
+                                    at <= last,
+                                    "{at} past {last}, in a valid arc from {start}"
+                                );
+                            }
+                            assert!(lb.landing(&x, &y, sign, &|_| true).is_none());
+                        }
+                        None => {
+                            refused += 1;
+                            assert!(
+                                wide.is_none(),
+                                "a valid arc {wide:?} within the bound missed"
+                            );
+                        }
+                    }
+                }
+                deep += usize::from(landed == landed_before);
+            }
+        }
+        println!(
+            "{cases} cases: {landed} landings, {refused} sides without, {deep} without either"
+        );
+        assert!(
+            cases >= 24 && landed >= 8 && refused >= 8 && deep >= 4,
+            "{cases} {landed} {refused} {deep}"
+        );
+    }
+
     /// The one-solve null direction equals the seven-minor one (same orientation).
     #[test]
     fn fast_null_direction_matches_cofactors() {
