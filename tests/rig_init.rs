@@ -2,7 +2,8 @@
 //! accepted as written by `reach` and `plan`, and its clamp is where the arm holds the straight
 //! rod (checked by IK and the collision model directly); a bad tool link is refused naming it
 //! and the links there are. And what a 6-DOF arm is to the planner: every IK branch of the
-//! straight rod a start, no self-motion, reconfiguration impossible (and said so).
+//! straight rod a start, no self-motion at a full pose, reconfiguration impossible in roll
+//! `fixed` (and said so); in roll `motor` its roll is a self-motion the search moves along.
 
 mod common;
 
@@ -220,8 +221,11 @@ fn every_ik_branch_of_a_6_dof_arm_is_a_start() {
     let rig = Rig::from_file(&init(dir.path(), "ur5", "tool0")).unwrap();
     let planner = Planner::new(rig.clone()).unwrap();
     assert_eq!(
-        planner.reconfiguration(),
-        Reconfiguration::Impossible { dof: 6 }
+        planner.reconfiguration(RollMode::Fixed),
+        Reconfiguration::Impossible {
+            dof: 6,
+            roll: RollMode::Fixed
+        }
     );
     let comps = planner.start_components(RollMode::Fixed);
     assert!(comps.iter().all(|c| c.len() == 1), "{comps:?}");
@@ -264,6 +268,121 @@ fn every_ik_branch_of_a_6_dof_arm_is_a_start() {
         brute.len(),
         valid.len()
     );
+}
+
+/// A 6-joint arm has a self-motion in roll `motor`: its roll about the rod at a held pose (the
+/// motor turning the other way). On the Jaco2 (`rig init --rod-length 0.3`), direction 1 of the
+/// 100-direction quarter-sphere lattice is testable in roll `motor` only through such moves:
+/// the search's path has reconfigurations, every one of them at a held pose (s and the rod
+/// end's position constant, the roll changing) within the joint-step bound, and the rig's
+/// [`Planner::reconfiguration`] says `allowed` in roll `motor` (`impossible` in roll `fixed`),
+/// as `plan` prints it. With reconfiguration forbidden it says so and the path has none after
+/// s = 0; the ladder, which does not move along a 6-joint arm's roll, says that and has none.
+#[test]
+fn a_6_dof_arm_reconfigures_by_its_roll_in_roll_motor() {
+    use helixreach::planning::rig::SearchMethod;
+    use helixreach::planning::trajectory::Phase;
+    let dir = tempfile::tempdir().unwrap();
+    let rig_path = dir.path().join("kinova.toml");
+    let urdf = robots::urdf(arm("kinova"));
+    let pkg = robots::package_dir();
+    let o = helixreach(&[
+        "rig",
+        "init",
+        "--robot",
+        urdf.to_str().unwrap(),
+        "--tip",
+        "j2s6s200_end_effector",
+        "--package-path",
+        pkg.to_str().unwrap(),
+        "--rod-length",
+        "0.3",
+        "--out",
+        rig_path.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rig = Rig::from_file(&rig_path).unwrap();
+    let d = fibonacci(100, true).unwrap()[1];
+    let s_star = helixreach::sweep::reach::s_star_of(&d, None).unwrap();
+    let planner = Planner::new(rig.clone()).unwrap();
+    assert_eq!(
+        planner.reconfiguration(RollMode::Fixed),
+        Reconfiguration::Impossible {
+            dof: 6,
+            roll: RollMode::Fixed
+        }
+    );
+    assert_eq!(
+        planner.reconfiguration(RollMode::Motor),
+        Reconfiguration::Allowed
+    );
+    let plan = planner
+        .plan_ray(&d, s_star, 0.0, RollMode::Motor, true)
+        .unwrap();
+    assert_eq!(plan.class, ReachClass::Testable, "{plan:?}");
+    assert!(plan.reconfigurations > 0);
+    let path = plan.path.as_ref().unwrap();
+    let mut rolled = 0;
+    for w in path.windows(2) {
+        if w[1].phase != Phase::Reconfigure {
+            continue;
+        }
+        assert_eq!(w[0].waypoint.s, w[1].waypoint.s);
+        let step = (0..6)
+            .map(|j| (w[1].q[j] - w[0].q[j]).abs())
+            .fold(0.0, Real::max);
+        assert!(step <= rig.planner.max_joint_step + 1e-12, "{step}");
+        // The rod end (the tool frame's origin) and the rod tangent (its z axis) held.
+        let want = &w[1].waypoint.tool;
+        let z = Vec3::new(0.0, 0.0, 1.0);
+        for q in [&w[0].q, &w[1].q] {
+            let f = planner.model().chain().tool_pose(q);
+            let origin = f.pos + f.rot * rig.tool.translation.vector;
+            let tangent = f.rot * (rig.tool.rotation * z);
+            assert!((origin - want.translation.vector).norm() < 1e-6);
+            assert!((tangent - want.rotation * z).norm() < 1e-6);
+        }
+        rolled += usize::from((w[1].motor - w[0].motor).abs() > 1e-6);
+    }
+    assert!(rolled > 0);
+
+    let mut forbidden = rig.clone();
+    forbidden.planner.allow_reconfiguration = false;
+    let p = Planner::new(forbidden).unwrap();
+    assert_eq!(
+        p.reconfiguration(RollMode::Motor),
+        Reconfiguration::Forbidden
+    );
+    let plan = p.plan_ray(&d, s_star, 0.0, RollMode::Motor, true).unwrap();
+    let path = plan.path.as_ref().unwrap();
+    assert!(path
+        .iter()
+        .all(|x| x.phase != Phase::Reconfigure || x.waypoint.s == 0.0));
+
+    let mut ladder = rig.clone();
+    ladder.planner.search = SearchMethod::Ladder;
+    let p = Planner::new(ladder).unwrap();
+    assert_eq!(
+        p.reconfiguration(RollMode::Motor),
+        Reconfiguration::NotByLadder { dof: 6 }
+    );
+    let plan = p.plan_ray(&d, s_star, 0.0, RollMode::Motor, false).unwrap();
+    assert_eq!(plan.reconfigurations, 0);
+
+    let o = helixreach(&[
+        "plan",
+        "--rig",
+        rig_path.to_str().unwrap(),
+        "--direction",
+        &format!("{},{},{}", d.kappa, d.tau, d.omega),
+        "--roll",
+        "motor",
+        "--out",
+        dir.path().join("t.csv").to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("(reconfiguration allowed)"), "{err}");
 }
 
 /// A 6-DOF rung that dies says why: its nodes' rejection. (Before, the rung's failed
@@ -320,7 +439,7 @@ fn a_6_dof_plan_says_reconfiguration_is_impossible() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(
-        err.contains("reconfiguration impossible (6 joints: no self-motion"),
+        err.contains("reconfiguration impossible (6 joints in roll fixed: no self-motion"),
         "{err}"
     );
     let meta: serde_json::Value = serde_json::from_str(

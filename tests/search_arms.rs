@@ -1,6 +1,7 @@
 //! The search of the valid set on arms other than the seed's, against a second method, on the
 //! rigs `rig init` writes: Baxter's right arm (7-DOF, a collision model of 39 primitives with
-//! tight clearances, with its SRDF), the Panda (7-DOF, mesh hulls) and the UR5 (6-DOF). The
+//! tight clearances, with its SRDF), the Panda (7-DOF, mesh hulls), the UR5 and the Jaco2
+//! (6-DOF). The
 //! ladder drives each ray to its `s_reached` by a path whose every point and step it checks
 //! (limits, collisions, the joint-step bound), so the search — whose partial answer says no
 //! path leaves its reachable piece — must reach every whole slice the ladder reaches, and be
@@ -16,7 +17,9 @@ use helixreach::planning::rig::{Rig, RollMode, SearchMethod};
 use helixreach::planning::rig_init::{rig_init, RigInitOptions};
 
 /// The rig `helixreach rig init` writes for the vendored arm `name` (Baxter with
-/// `--srdf baxter_manipulation.srdf`: without it no clamp is found), at the command's defaults.
+/// `--srdf baxter_manipulation.srdf`: without it no clamp is found; the Jaco2 (`kinova`) with
+/// `--rod-length 0.3`: at the default length no clamp candidate holds the straight rod
+/// without collision), at the command's defaults otherwise.
 fn rig_of(name: &str, dir: &std::path::Path) -> Rig {
     let arm = ARMS.iter().find(|a| a.name == name).unwrap();
     let urdf = robots::urdf(arm);
@@ -36,7 +39,7 @@ fn rig_of(name: &str, dir: &std::path::Path) -> Rig {
         name: name.to_string(),
         tool_offset: 0.1,
         padding: 0.005,
-        rod_length: None,
+        rod_length: (name == "kinova").then_some(0.3),
         par: helixreach::par::Par::from_option(None).unwrap(),
     };
     rig_init(&opts, dir).unwrap().rig
@@ -111,11 +114,12 @@ fn the_search_reaches_every_slice_the_ladder_reaches_on_baxter() {
     );
 }
 
-/// The same on the Panda (7-DOF, mesh hulls) and the UR5 (6-DOF: finitely many configurations
-/// per slice, no landings), 50 rays each.
+/// The same on the Panda (7-DOF, mesh hulls), the UR5 and the Jaco2 (6-DOF: finitely many
+/// configurations per slice, no landings; the Jaco2's mesh hulls and joints of ±2π), 50 rays
+/// each.
 #[test]
-fn the_search_reaches_every_slice_the_ladder_reaches_on_panda_and_ur5() {
-    for name in ["panda", "ur5"] {
+fn the_search_reaches_every_slice_the_ladder_reaches_on_panda_ur5_and_jaco2() {
+    for name in ["panda", "ur5", "kinova"] {
         let (partial, behind) = behind_the_ladder(name, 50);
         assert!(
             partial >= 20,

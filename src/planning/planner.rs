@@ -40,7 +40,8 @@
 //!   every IK branch is a start. There is no self-motion: reconfiguration is impossible
 //!   ([`Planner::reconfiguration`]; `plan` and `reach` say so), and a path that would need to
 //!   change branch mid-ray stops (`discontinuity`). In roll `motor` a 6-joint arm has the 1-D
-//!   roll self-motion at a pose (the search moves along it; the ladder only tracks it).
+//!   roll self-motion at a pose: the search moves along it at a held pose (reconfiguration as
+//!   the rig allows it), the ladder only tracks it.
 //! - IK is numerical (box-constrained Levenberg–Marquardt from random restarts,
 //!   [`crate::robot::ik`]): a branch none of the restarts converges to is missed.
 //!
@@ -72,31 +73,53 @@ mod transition;
 pub(crate) const MAX_WALK_SAMPLES: usize = 2_000;
 
 /// Whether a planner may reconfigure the arm at a held pose ([`Planner::reconfiguration`]).
+///
+/// The held pose is the rod end's: a full pose in roll `fixed` (6 constraints), a position and
+/// the rod tangent in roll `motor` (5: the arm's roll about the tangent is free, the motor turns
+/// the other way). The arm has a self-motion there when it has more joints than constraints: a
+/// 7-joint arm in either mode, a 6-joint arm in roll `motor` only (its roll).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Reconfiguration {
-    /// A 7-joint arm, the rig allows it.
+    /// The arm has a self-motion at the held pose and the rig allows moving along it.
     Allowed,
-    /// A 7-joint arm, the rig (or `--no-reconfiguration`) forbids it.
+    /// The arm has a self-motion at the held pose; the rig (or `--no-reconfiguration`)
+    /// forbids it.
     Forbidden,
-    /// Not 7 joints: the straight rod's pose has no self-motion to walk, so no plan
-    /// reconfigures; every IK branch of the straight rod is a start instead.
+    /// No self-motion at the held pose in this roll mode (6 joints in roll `fixed`, fewer
+    /// joints in either): no plan reconfigures; every IK branch of the straight rod is a start
+    /// instead.
     Impossible {
+        /// The arm's joints.
+        dof: usize,
+        /// The roll mode.
+        roll: RollMode,
+    },
+    /// A 6-joint arm in roll `motor` decided by the ladder (`planner.search = "ladder"`): the
+    /// arm's roll is a self-motion, which only the search of the valid set (`"exact"`) moves
+    /// along at a held pose.
+    NotByLadder {
         /// The arm's joints.
         dof: usize,
     },
 }
 
 impl std::fmt::Display for Reconfiguration {
-    /// `allowed`, `forbidden by the rig`, or `impossible (6 joints: no self-motion; every IK
-    /// branch of the straight rod is a start)`.
+    /// `allowed`, `forbidden by the rig`, `impossible (6 joints in roll fixed: no self-motion;
+    /// every IK branch of the straight rod is a start)`, or `not made by the ladder (6 joints:
+    /// the search, planner.search = "exact", rolls the arm at a held pose)`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Reconfiguration::Allowed => f.write_str("allowed"),
             Reconfiguration::Forbidden => f.write_str("forbidden by the rig"),
-            Reconfiguration::Impossible { dof } => write!(
+            Reconfiguration::Impossible { dof, roll } => write!(
                 f,
-                "impossible ({dof} joints: no self-motion; every IK branch of the straight rod \
-                 is a start)"
+                "impossible ({dof} joints in roll {roll}: no self-motion; every IK branch of the \
+                 straight rod is a start)"
+            ),
+            Reconfiguration::NotByLadder { dof } => write!(
+                f,
+                "not made by the ladder ({dof} joints: the search, planner.search = \"exact\", \
+                 rolls the arm at a held pose)"
             ),
         }
     }
@@ -441,12 +464,30 @@ impl Planner {
         &self.model
     }
 
-    /// Whether this rig's plans may reconfigure at a held pose (module docs, "What the planner
-    /// assumes of the arm"): impossible without 7 joints (no self-motion), else as the rig's
-    /// `planner.allow_reconfiguration` says.
-    pub fn reconfiguration(&self) -> Reconfiguration {
-        if self.dof != 7 {
-            Reconfiguration::Impossible { dof: self.dof }
+    /// Whether this rig's plans in roll mode `roll` may reconfigure at a held pose
+    /// ([`Reconfiguration`]; module docs, "What the planner assumes of the arm"): impossible
+    /// where the arm has no self-motion at the held pose (fewer than 7 joints in roll `fixed`,
+    /// fewer than 6 in roll `motor`); not made by the ladder on a 6-joint arm in roll `motor`;
+    /// else as the rig's `planner.allow_reconfiguration` says.
+    ///
+    /// ```
+    /// use helixreach::planning::planner::{Planner, Reconfiguration};
+    /// use helixreach::planning::rig::{Rig, RollMode};
+    /// let planner = Planner::new(Rig::load("sawyer-seed").unwrap()).unwrap();
+    /// assert_eq!(planner.reconfiguration(RollMode::Fixed), Reconfiguration::Allowed);
+    /// ```
+    pub fn reconfiguration(&self, roll: RollMode) -> Reconfiguration {
+        let constraints = match roll {
+            RollMode::Fixed => 6,
+            RollMode::Motor => 5,
+        };
+        if self.dof <= constraints {
+            Reconfiguration::Impossible {
+                dof: self.dof,
+                roll,
+            }
+        } else if self.dof != 7 && self.rig.planner.search == SearchMethod::Ladder {
+            Reconfiguration::NotByLadder { dof: self.dof }
         } else if self.rig.planner.allow_reconfiguration {
             Reconfiguration::Allowed
         } else {

@@ -160,7 +160,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 plan.s_end,
                 plan.s_star,
                 plan.cause.map_or("-", |c| c.as_str()),
-                planner.reconfiguration(),
+                planner.reconfiguration(plan.roll),
             ),
         }
         .into());
@@ -195,7 +195,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         plan.azimuth,
         plan.roll,
         plan.reconfigurations,
-        planner.reconfiguration(),
+        planner.reconfiguration(plan.roll),
         plan.backoffs,
         plan.path_cost,
         plan.max_joint_step,

@@ -85,7 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let planner = Planner::new(rig)?;
     status!(
         "reconfiguration at a held pose: {}",
-        planner.reconfiguration()
+        planner.reconfiguration(opts.roll)
     );
     let mut sweep = SweepOptions::new(&args.out, REACH_HEADER, 3);
     sweep.resume = args.resume;

@@ -134,7 +134,9 @@ fn init(args: InitArgs) -> anyhow::Result<()> {
         if r.dof == 7 {
             ""
         } else {
-            "; not 7 joints: no self-motion, every IK branch is a start and reconfiguration is impossible"
+            "; not 7 joints: no self-motion at a full pose, every IK branch is a start and \
+             reconfiguration is impossible in roll fixed (in roll motor a 6-joint arm's roll is \
+             its self-motion)"
         },
         if stdout {
             String::new()
