@@ -271,13 +271,14 @@ fn every_ik_branch_of_a_6_dof_arm_is_a_start() {
 }
 
 /// A 6-joint arm has a self-motion in roll `motor`: its roll about the rod at a held pose (the
-/// motor turning the other way). On the Jaco2 (`rig init --rod-length 0.3`), direction 1 of the
-/// 100-direction quarter-sphere lattice is testable in roll `motor` only through such moves:
-/// the search's path has reconfigurations, every one of them at a held pose (s and the rod
-/// end's position constant, the roll changing) within the joint-step bound, and the rig's
-/// [`Planner::reconfiguration`] says `allowed` in roll `motor` (`impossible` in roll `fixed`),
-/// as `plan` prints it. With reconfiguration forbidden it says so and the path has none after
-/// s = 0; the ladder, which does not move along a 6-joint arm's roll, says that and has none.
+/// motor turning the other way). On the Jaco2 (`rig init --srdf kinova.srdf --rod-length
+/// 0.3`), direction 1 of the 100-direction quarter-sphere lattice is testable in roll `motor`
+/// only through such moves: the search's path has reconfigurations, every one at a held pose
+/// (s, the rod end and the rod tangent constant, the motor turning) within the joint-step
+/// bound, and the rig's [`Planner::reconfiguration`] says `allowed` in roll `motor`
+/// (`impossible` in roll `fixed`), as `plan` prints it. With reconfiguration forbidden it says
+/// so, the path has none after s = 0 and the ray is not testable; the ladder, which does not
+/// move along a 6-joint arm's roll, says that and has none.
 #[test]
 fn a_6_dof_arm_reconfigures_by_its_roll_in_roll_motor() {
     use helixreach::planning::rig::SearchMethod;
@@ -295,6 +296,14 @@ fn a_6_dof_arm_reconfigures_by_its_roll_in_roll_motor() {
         "j2s6s200_end_effector",
         "--package-path",
         pkg.to_str().unwrap(),
+        "--srdf",
+        urdf.parent()
+            .unwrap()
+            .parent()
+            .unwrap()
+            .join("srdf/kinova.srdf")
+            .to_str()
+            .unwrap(),
         "--rod-length",
         "0.3",
         "--out",
@@ -354,6 +363,7 @@ fn a_6_dof_arm_reconfigures_by_its_roll_in_roll_motor() {
         Reconfiguration::Forbidden
     );
     let plan = p.plan_ray(&d, s_star, 0.0, RollMode::Motor, true).unwrap();
+    assert_ne!(plan.class, ReachClass::Testable);
     let path = plan.path.as_ref().unwrap();
     assert!(path
         .iter()

@@ -18,18 +18,17 @@ use helixreach::planning::rig_init::{rig_init, RigInitOptions};
 
 /// The rig `helixreach rig init` writes for the vendored arm `name` (Baxter with
 /// `--srdf baxter_manipulation.srdf`: without it no clamp is found; the Jaco2 (`kinova`) with
-/// `--rod-length 0.3`: at the default length no clamp candidate holds the straight rod
-/// without collision), at the command's defaults otherwise.
+/// `--srdf kinova.srdf --rod-length 0.3`: at the default length no clamp candidate holds the
+/// straight rod without collision), at the command's defaults otherwise.
 fn rig_of(name: &str, dir: &std::path::Path) -> Rig {
     let arm = ARMS.iter().find(|a| a.name == name).unwrap();
     let urdf = robots::urdf(arm);
-    let srdf = (name == "baxter_right").then(|| {
-        urdf.parent()
-            .unwrap()
-            .parent()
-            .unwrap()
-            .join("srdf/baxter_manipulation.srdf")
-    });
+    let srdf = match name {
+        "baxter_right" => Some("srdf/baxter_manipulation.srdf"),
+        "kinova" => Some("srdf/kinova.srdf"),
+        _ => None,
+    }
+    .map(|f| urdf.parent().unwrap().parent().unwrap().join(f));
     let opts = RigInitOptions {
         robot: urdf.to_str().unwrap().to_string(),
         tip_link: arm.tip.to_string(),
@@ -115,7 +114,7 @@ fn the_search_reaches_every_slice_the_ladder_reaches_on_baxter() {
 }
 
 /// The same on the Panda (7-DOF, mesh hulls), the UR5 and the Jaco2 (6-DOF: finitely many
-/// configurations per slice, no landings; the Jaco2's mesh hulls and joints of ±2π), 50 rays
+/// configurations per slice, no landings; the Jaco2 with mesh hulls and continuous joints), 50 rays
 /// each.
 #[test]
 fn the_search_reaches_every_slice_the_ladder_reaches_on_panda_ur5_and_jaco2() {
