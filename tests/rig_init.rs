@@ -30,10 +30,15 @@ fn arm(name: &str) -> &'static robots::Arm {
 
 /// `rig init` for `arm` with tool link `tip`, written to `dir/NAME.toml`.
 fn init(dir: &Path, name: &str, tip: &str) -> PathBuf {
+    init_with(dir, name, tip, &[])
+}
+
+/// [`init`] with more options (`extra`).
+fn init_with(dir: &Path, name: &str, tip: &str, extra: &[&str]) -> PathBuf {
     let out = dir.join(format!("{name}.toml"));
     let urdf = robots::urdf(arm(name));
     let pkg = robots::package_dir();
-    let o = helixreach(&[
+    let mut args = vec![
         "rig",
         "init",
         "--robot",
@@ -44,7 +49,9 @@ fn init(dir: &Path, name: &str, tip: &str) -> PathBuf {
         pkg.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let o = helixreach(&args);
     assert!(
         o.status.success(),
         "rig init {name}: {}",
@@ -284,32 +291,18 @@ fn a_6_dof_arm_reconfigures_by_its_roll_in_roll_motor() {
     use helixreach::planning::rig::SearchMethod;
     use helixreach::planning::trajectory::Phase;
     let dir = tempfile::tempdir().unwrap();
-    let rig_path = dir.path().join("kinova.toml");
-    let urdf = robots::urdf(arm("kinova"));
-    let pkg = robots::package_dir();
-    let o = helixreach(&[
-        "rig",
-        "init",
-        "--robot",
-        urdf.to_str().unwrap(),
-        "--tip",
+    let srdf = robots::urdf(arm("kinova"))
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("srdf/kinova.srdf");
+    let rig_path = init_with(
+        dir.path(),
+        "kinova",
         "j2s6s200_end_effector",
-        "--package-path",
-        pkg.to_str().unwrap(),
-        "--srdf",
-        urdf.parent()
-            .unwrap()
-            .parent()
-            .unwrap()
-            .join("srdf/kinova.srdf")
-            .to_str()
-            .unwrap(),
-        "--rod-length",
-        "0.3",
-        "--out",
-        rig_path.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        &["--srdf", srdf.to_str().unwrap(), "--rod-length", "0.3"],
+    );
     let rig = Rig::from_file(&rig_path).unwrap();
     let d = fibonacci(100, true).unwrap()[1];
     let s_star = helixreach::sweep::reach::s_star_of(&d, None).unwrap();
