@@ -532,8 +532,9 @@ fn reach_states_its_classes_and_warns_of_undecided_rays() {
         };
         let undecided = count("undecided");
         assert!(undecided > 0, "{csv}");
+        let rays = if undecided == 1 { "ray" } else { "rays" };
         let warning = format!(
-            "warning: reach: {undecided} rays undecided: their search hit \
+            "warning: reach: {undecided} {rays} undecided: their search hit \
              planner.max_search_nodes = 2000"
         );
         assert!(err.contains(&warning), "{err}");

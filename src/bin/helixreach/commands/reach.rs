@@ -118,10 +118,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
         if c.undecided > 0 {
             eprintln!(
-                "warning: reach: {} rays undecided: their search hit planner.max_search_nodes = {} before \
+                "warning: reach: {} undecided: their search hit planner.max_search_nodes = {} before \
                  finding a path or exhausting its piece (class `undecided`, s_reached the farthest \
-                 s found); a rig with a larger bound decides more of them",
-                c.undecided,
+                 s found); a rig with a larger bound may decide some of them, at a cost that grows \
+                 with the bound (in roll motor a ray's pieces can hold millions of nodes)",
+                match c.undecided {
+                    1 => "1 ray".to_string(),
+                    n => format!("{n} rays"),
+                },
                 planner.rig().planner.max_search_nodes
             );
         }
