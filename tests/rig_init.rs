@@ -388,6 +388,60 @@ fn a_6_dof_arm_reconfigures_by_its_roll_in_roll_motor() {
     assert!(err.contains("(reconfiguration allowed)"), "{err}");
 }
 
+/// Continuous joints are modelled as one turn, and said so: on the Jaco2 the joints whose URDF
+/// type is `continuous` (read from the URDF text) are the model's continuous joints, each
+/// limited to [−π, π], and the rig `rig init` writes names exactly them in a comment; the
+/// UR5's rig (no continuous joint) has none.
+#[test]
+fn rig_init_names_the_continuous_joints() {
+    let urdf = std::fs::read_to_string(robots::urdf(arm("kinova"))).unwrap();
+    let mut want: Vec<String> = urdf
+        .split("<joint ")
+        .skip(1)
+        .filter(|j| j[..j.find('>').unwrap()].contains("type=\"continuous\""))
+        .map(|j| {
+            let n = &j[j.find("name=\"").unwrap() + 6..];
+            n[..n.find('"').unwrap()].to_string()
+        })
+        .collect();
+    want.sort();
+    assert_eq!(want.len(), 3, "{want:?}");
+    let model = robots::load(arm("kinova"));
+    let mut got: Vec<String> = Vec::new();
+    for j in model.joints() {
+        if j.continuous {
+            assert_eq!(
+                (j.lower, j.upper),
+                (-std::f64::consts::PI, std::f64::consts::PI)
+            );
+            got.push(j.name.clone());
+        }
+    }
+    got.sort();
+    assert_eq!(got, want);
+    let dir = tempfile::tempdir().unwrap();
+    let srdf = robots::urdf(arm("kinova"))
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("srdf/kinova.srdf");
+    let text = std::fs::read_to_string(init_with(
+        dir.path(),
+        "kinova",
+        "j2s6s200_end_effector",
+        &["--srdf", srdf.to_str().unwrap(), "--rod-length", "0.3"],
+    ))
+    .unwrap();
+    let at = text.find("# Continuous joints").expect("the note");
+    let listed = text[at..].lines().nth(2).unwrap().trim_start_matches("# ");
+    let mut listed: Vec<String> = listed.split(", ").map(str::to_string).collect();
+    listed.sort();
+    assert_eq!(listed, want);
+    let ur5 = std::fs::read_to_string(init(dir.path(), "ur5", "tool0")).unwrap();
+    assert!(!ur5.contains("Continuous joints"));
+}
+
 /// A 6-DOF rung that dies says why: its nodes' rejection. (Before, the rung's failed
 /// spawns, locked-joint tracks a 6-DOF arm cannot follow, were counted too and made every
 /// blocked UR5 ray `no_ik`.) For every partial ray on the UR5 rig, when the pose just past

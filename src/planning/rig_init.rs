@@ -122,6 +122,30 @@ pub struct RigInit {
     pub chosen: usize,
     /// Degrees of freedom of the arm.
     pub dof: usize,
+    /// The arm's continuous joints (URDF type `continuous`), in chain order: modelled as
+    /// `[−π, π]` ([`crate::robot::JointInfo::continuous`]); the rig text says so.
+    pub continuous: Vec<String>,
+}
+
+/// `text` with a comment after its `tip_link` line naming the continuous joints and their
+/// modelled range (unchanged when there are none).
+fn with_continuous_note(text: String, continuous: &[String]) -> String {
+    if continuous.is_empty() {
+        return text;
+    }
+    let at = text
+        .find("\ntip_link = ")
+        .and_then(|i| text[i + 1..].find('\n').map(|j| i + j + 2))
+        .unwrap_or(text.len());
+    let note = format!(
+        "# Continuous joints (no limits in the URDF), modelled as [-pi, pi]: a path that would\n\
+         # turn one past +-pi stops there (cause joint_limit). They are:\n\
+         # {}\n",
+        continuous.join(", ")
+    );
+    let mut t = text;
+    t.insert_str(at, &note);
+    t
 }
 
 fn quoted(s: &str) -> String {
@@ -426,6 +450,13 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
             SCORE_DIRECTIONS
         ),
     );
+    let continuous: Vec<String> = model
+        .joints()
+        .iter()
+        .filter(|j| j.continuous)
+        .map(|j| j.name.clone())
+        .collect();
+    let text = with_continuous_note(text, &continuous);
     let rig = Rig::from_toml_str(&text, "rig init", out_dir)?;
     Ok(RigInit {
         text,
@@ -435,6 +466,7 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
         candidates,
         chosen,
         dof: model.dof(),
+        continuous,
     })
 }
 

@@ -30,6 +30,10 @@ pub struct JointInfo {
     pub lower: Real,
     /// Upper position limit (rad).
     pub upper: Real,
+    /// A URDF `continuous` joint: no limits in the URDF, modelled here as `[−π, π]` (one turn,
+    /// so the joint space stays bounded); a path that would turn it past ±π stops at that
+    /// bound (cause `joint_limit`).
+    pub continuous: bool,
     /// Velocity limit (rad/s; 0 when the URDF gives none).
     pub velocity: Real,
     /// Unit axis in the joint frame.

@@ -583,6 +583,7 @@ fn build(
                     child_link: j.child.link.clone(),
                     lower,
                     upper,
+                    continuous: j.joint_type == urdf_rs::JointType::Continuous,
                     velocity: if j.limit.velocity.is_finite() {
                         j.limit.velocity
                     } else {

@@ -119,7 +119,7 @@ fn init(args: InitArgs) -> anyhow::Result<()> {
     status!(
         "rig init: {} joints; clamp at [{}, {}, {}] (reach {:.3} m from [{:.3}, {:.3}, {:.3}]), \
          {} start configurations, {} of {SCORE_DIRECTIONS} quarter-sphere end poses held \
-         (best of {} candidates){}{}",
+         (best of {} candidates){}{}{}",
         r.dof,
         c.origin[0],
         c.origin[1],
@@ -137,6 +137,15 @@ fn init(args: InitArgs) -> anyhow::Result<()> {
             "; not 7 joints: no self-motion at a full pose, every IK branch is a start and \
              reconfiguration is impossible in roll fixed (in roll motor a 6-joint arm's roll is \
              its self-motion)"
+        },
+        if r.continuous.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; continuous joints {} modelled as [-pi, pi] (a path that would turn one past \
+                 +-pi stops there)",
+                r.continuous.join(", ")
+            )
         },
         if stdout {
             String::new()

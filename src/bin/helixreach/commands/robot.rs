@@ -118,7 +118,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     println!("joints (rad, rad/s):");
     for (i, j) in m.joints().iter().enumerate() {
         println!(
-            "  {i} {:<12} {} -> {}  axis [{}, {}, {}]  limits [{}, {}]  velocity {}",
+            "  {i} {:<12} {} -> {}  axis [{}, {}, {}]  limits [{}, {}]{}  velocity {}",
             j.name,
             j.parent_link,
             j.child_link,
@@ -127,6 +127,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             j.axis.z,
             j.lower,
             j.upper,
+            if j.continuous {
+                " (continuous: one turn)"
+            } else {
+                ""
+            },
             j.velocity
         );
     }
