@@ -60,6 +60,23 @@ fn init_with(dir: &Path, name: &str, tip: &str, extra: &[&str]) -> PathBuf {
     out
 }
 
+/// `rig init` for the Jaco2 (`kinova`) with its SRDF and a 0.3 m rod (at the default length no
+/// clamp candidate holds the straight rod without collision).
+fn init_jaco2(dir: &Path) -> PathBuf {
+    let srdf = robots::urdf(arm("kinova"))
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("srdf/kinova.srdf");
+    init_with(
+        dir,
+        "kinova",
+        "j2s6s200_end_effector",
+        &["--srdf", srdf.to_str().unwrap(), "--rod-length", "0.3"],
+    )
+}
+
 /// The straight rod's nodes of `rig` (clamp to rod end, `rod_capsules` capsules).
 fn straight_rod(rig: &Rig) -> Vec<Vec3> {
     let n = rig.planner.rod_capsules;
@@ -291,18 +308,7 @@ fn a_6_dof_arm_reconfigures_by_its_roll_in_roll_motor() {
     use helixreach::planning::rig::SearchMethod;
     use helixreach::planning::trajectory::Phase;
     let dir = tempfile::tempdir().unwrap();
-    let srdf = robots::urdf(arm("kinova"))
-        .parent()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .join("srdf/kinova.srdf");
-    let rig_path = init_with(
-        dir.path(),
-        "kinova",
-        "j2s6s200_end_effector",
-        &["--srdf", srdf.to_str().unwrap(), "--rod-length", "0.3"],
-    );
+    let rig_path = init_jaco2(dir.path());
     let rig = Rig::from_file(&rig_path).unwrap();
     let d = fibonacci(100, true).unwrap()[1];
     let s_star = helixreach::sweep::reach::s_star_of(&d, None).unwrap();
@@ -420,19 +426,7 @@ fn rig_init_names_the_continuous_joints() {
     got.sort();
     assert_eq!(got, want);
     let dir = tempfile::tempdir().unwrap();
-    let srdf = robots::urdf(arm("kinova"))
-        .parent()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .join("srdf/kinova.srdf");
-    let text = std::fs::read_to_string(init_with(
-        dir.path(),
-        "kinova",
-        "j2s6s200_end_effector",
-        &["--srdf", srdf.to_str().unwrap(), "--rod-length", "0.3"],
-    ))
-    .unwrap();
+    let text = std::fs::read_to_string(init_jaco2(dir.path())).unwrap();
     let at = text.find("# Continuous joints").expect("the note");
     let listed = text[at..].lines().nth(2).unwrap().trim_start_matches("# ");
     let mut listed: Vec<String> = listed.split(", ").map(str::to_string).collect();
