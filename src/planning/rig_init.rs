@@ -7,7 +7,8 @@
 //! - `[robot]`: the URDF (absolute path, or a built-in robot name as given), the tip link, the
 //!   package directories for `package://` meshes (absolute), the links without collision
 //!   geometry, the collision model (`primitives_then_hull`: fitted capsules as a broad phase,
-//!   then the exact hulls), the padding of every collision body, the SRDF (if given).
+//!   then the exact hulls), the padding of every collision body, the SRDF (if given); a
+//!   comment naming the arm's continuous joints, modelled as [−π, π] ([`RigInit::continuous`]).
 //! - `[tool]`: the rod end [`RigInitOptions::tool_offset`] metres out of the tip link along its
 //!   z axis (no rotation): the flange → motor-tip distance, to be measured on the real tool.
 //! - `[rod]`: the seed's nitinol rod (1/16 in diameter, E = 67.5 GPa, ν = 0.33,
