@@ -98,7 +98,7 @@ fn behind_the_ladder(name: &str, n: usize) -> (usize, Vec<(usize, usize, usize)>
 /// Baxter's right arm, 100 rays: the search is never behind the ladder. A load track that
 /// lands in collision is continued along the landing slice's self-motion to the nearest valid
 /// configuration within the joint-step bound (`search::linking`, "Landing"): without that, the
-/// search stopped 1–4 slices before the ladder on 13 of these rays (direction 65: slice 28,
+/// search stops 1–4 slices before the ladder on 13 of these rays (direction 65: slice 28,
 /// the ladder 32, which it reaches by tracks with the redundancy joint locked next to the
 /// minimum-norm one); with landings sampled every half of the bound instead of every quarter,
 /// on 1 (direction 66: 29, the ladder 31).

@@ -128,27 +128,6 @@ pub struct RigInit {
     pub continuous: Vec<String>,
 }
 
-/// `text` with a comment after its `tip_link` line naming the continuous joints and their
-/// modelled range (unchanged when there are none).
-fn with_continuous_note(text: String, continuous: &[String]) -> String {
-    if continuous.is_empty() {
-        return text;
-    }
-    let at = text
-        .find("\ntip_link = ")
-        .and_then(|i| text[i + 1..].find('\n').map(|j| i + j + 2))
-        .unwrap_or(text.len());
-    let note = format!(
-        "# Continuous joints (no limits in the URDF), modelled as [-pi, pi]: a path that would\n\
-         # turn one past +-pi stops there (cause joint_limit). They are:\n\
-         # {}\n",
-        continuous.join(", ")
-    );
-    let mut t = text;
-    t.insert_str(at, &note);
-    t
-}
-
 fn quoted(s: &str) -> String {
     toml::Value::String(s.to_string()).to_string()
 }
@@ -168,16 +147,29 @@ fn abs_dir(flag: &str, p: &Path) -> Result<String> {
     Ok(c.display().to_string())
 }
 
+/// What the `[robot]` section of every candidate's rig text names: the URDF, the package
+/// directories and the SRDF (absolute), and the arm's continuous joints.
+struct RobotLines<'a> {
+    urdf: &'a str,
+    packages: &'a [String],
+    srdf: Option<&'a str>,
+    continuous: &'a [String],
+}
+
 /// The rig text for `origin` (module docs, "What is written").
 fn rig_text(
     o: &RigInitOptions,
-    urdf: &str,
-    packages: &[String],
-    srdf: Option<&str>,
+    robot: &RobotLines<'_>,
     rod_length: Real,
     origin: [Real; 3],
     note: &str,
 ) -> String {
+    let RobotLines {
+        urdf,
+        packages,
+        srdf,
+        continuous,
+    } = *robot;
     let list = |v: &[String]| v.iter().map(|s| quoted(s)).collect::<Vec<_>>().join(", ");
     let mut t = String::new();
     t.push_str(&format!(
@@ -205,6 +197,14 @@ fn rig_text(
         quoted(urdf),
         quoted(&o.tip_link)
     ));
+    if !continuous.is_empty() {
+        t.push_str(&format!(
+            "# Continuous joints (no limits in the URDF), modelled as [-pi, pi]: a path that would\n\
+             # turn one past +-pi stops there (cause joint_limit). They are:\n\
+             # {}\n",
+            continuous.join(", ")
+        ));
+    }
     t.push_str(&format!(
         "# Where `package://NAME/...` meshes are found (searched before ROS_PACKAGE_PATH).\n\
          package_paths = [{}]\n",
@@ -329,9 +329,21 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
         .as_deref()
         .map(|p| abs_dir("--srdf", p))
         .transpose()?;
+    let continuous: Vec<String> = model
+        .joints()
+        .iter()
+        .filter(|j| j.continuous)
+        .map(|j| j.name.clone())
+        .collect();
+    let robot = RobotLines {
+        urdf: &urdf,
+        packages: &packages,
+        srdf: srdf.as_deref(),
+        continuous: &continuous,
+    };
     // The reach bound needs a rig for its tool: any candidate's.
     let probe = |rod: Real, origin: [Real; 3], note: &str| -> Result<Rig> {
-        let text = rig_text(opts, &urdf, &packages, srdf.as_deref(), rod, origin, note);
+        let text = rig_text(opts, &robot, rod, origin, note);
         Rig::from_toml_str(&text, "rig init", out_dir)
     };
     let rig0 = probe(SEED_ROD_LENGTH, [0.5, 0.0, 0.0], "probe")?;
@@ -437,9 +449,7 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
     let o = candidates[chosen].origin;
     let text = rig_text(
         opts,
-        &urdf,
-        &packages,
-        srdf.as_deref(),
+        &robot,
         rod_length,
         o,
         &format!(
@@ -451,13 +461,6 @@ pub fn rig_init(opts: &RigInitOptions, out_dir: &Path) -> Result<RigInit> {
             SCORE_DIRECTIONS
         ),
     );
-    let continuous: Vec<String> = model
-        .joints()
-        .iter()
-        .filter(|j| j.continuous)
-        .map(|j| j.name.clone())
-        .collect();
-    let text = with_continuous_note(text, &continuous);
     let rig = Rig::from_toml_str(&text, "rig init", out_dir)?;
     Ok(RigInit {
         text,

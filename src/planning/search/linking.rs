@@ -21,8 +21,8 @@
 //!   invalid stretch is not driven. A walk that meets a known node stops: that stretch is
 //!   reached already. The minimum-norm track picks one point of the next slice's curve near x;
 //!   the landing makes the valid points beside it, a narrow valid arc next to a collision,
-//!   edges too (on Baxter's right arm, 39 collision primitives, the search reached 1–4 slices
-//!   less than the ladder on 13 of 100 rays without it).
+//!   edges too (on Baxter's right arm, 39 collision primitives, a search without landings
+//!   reaches 1–4 slices less than the ladder on 13 of 100 rays).
 //! - **Walk** (inside slice i, roll held; 7-DOF arms): a step of h = `planner.search_step`
 //!   along the self-motion curve of the held pose in either direction. Within
 //!   `WALK_SUB_FRACTION`·`planner.max_joint_step` it is one predictor–corrector step,
@@ -1000,10 +1000,11 @@ mod tests {
     /// Landings against a constructed collision ([`Linker::landing`]). On the seed rig, from
     /// start configurations x of slice 0 whose load step lands at y (slice 1), a ball is placed
     /// ahead of the link that the self-motion through y moves fastest, its radius set by
-    /// bisection so that the arm at y is 0.5 mm inside it. The reference is an independent walk
-    /// of y's self-motion curve in 1 mrad steps (each corrected onto slice 1's pose), checked
-    /// with the test's own collision model (the ball, the scene, the slice's rod) and the joint
-    /// limits, up to where it leaves the joint-step bound of x. On each side:
+    /// bisection so that the arm at y is a set depth inside it. The reference is a separate walk
+    /// of y's self-motion curve in 1 mrad steps (each corrected onto slice 1's pose by the
+    /// solver's track, not by the landing's corrector), checked with the test's own collision
+    /// model (the ball, the scene, the slice's rod) and the joint limits, up to where it leaves
+    /// the joint-step bound of x. On each side:
     /// - a landing p holds the pose (1e-9 m / rad), lies on that curve (within 2 mrad of a
     ///   reference point), is valid, is within the bound of x, is no nearer to y than the
     ///   reference's first valid point and at most 1.2 sub-steps into its first valid arc wider

@@ -78,8 +78,8 @@
 //! `motor_search_agrees_with_the_brute_force_reference`). At the seed rig's bound (0.05 rad)
 //! that neighbourhood is about a third of a search step wide. On an arm whose collision model
 //! leaves narrow valid arcs the landings matter: on Baxter's right arm (39 collision
-//! primitives) the search stopped 1–4 slices before the ladder on 13 of 100 quarter-sphere rays
-//! without them, and reaches every slice the ladder reaches with them (test
+//! primitives) a search without them stops 1–4 slices before the ladder on 13 of 100
+//! quarter-sphere rays, and with them reaches every slice the ladder reaches (test
 //! `the_search_reaches_every_slice_the_ladder_reaches_on_baxter`).
 //! Where no single track joins a node to the neighbouring slice
 //! within the joint-step bound (a fast stretch of the self-motion, typically near the end of a
